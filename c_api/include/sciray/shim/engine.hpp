@@ -1,0 +1,44 @@
+#pragma once
+// The compiled side of sciray: the engine instantiated once per ISA (each in its own
+// translation unit, compiled with that ISA's flags) behind a table of entry points, and
+// the run-time choice of ISA. The command-line tool, the C API, tests and benchmarks
+// reach the per-ISA code only through `kernels`.
+#include <cstdint>
+#include <span>
+#include <string_view>
+
+#include "sciray/frame/framebuffer.hpp"
+#include "sciray/geometry/triangle_mesh.hpp"
+#include "sciray/render/camera.hpp"
+#include "sciray/render/scivis.hpp"
+#include "sciray/scene/world.hpp"
+#include "sciray/simd/arch.hpp"
+
+namespace sciray::shim {
+
+using MeshWorld = World<TriangleMesh>;
+
+/// One ray's closest hit, as the packet paths report it (for cross-ISA checks).
+struct TraceResult {
+  float t;  ///< inf where nothing was hit
+  float u, v;
+  std::int32_t prim_id;
+  std::int32_t geom_id;  ///< -1 where nothing was hit
+};
+
+struct IsaKernels {
+  simd::Isa isa;
+  /// Renders one frame with the scivis renderer into `fb` (accumulating).
+  void (*render_scivis)(const MeshWorld& world, const SciVisParams& params, const Camera& camera, FrameBuffer& fb);
+  /// Traces arbitrary rays in packets of this ISA's width.
+  void (*trace)(RTCScene scene, std::span<const Ray<float>> rays, std::span<TraceResult> results);
+};
+
+/// The entry points of `isa`; throws if this CPU cannot run it.
+const IsaKernels& kernels(simd::Isa isa);
+
+/// The ISA to use: `request` ("auto", "avx512", "avx2", "sse4.2", "scalar"), or when it
+/// is empty or "auto" the SCIRAY_ISA environment variable if set, else the best one.
+simd::Isa select_isa(std::string_view request = {});
+
+}  // namespace sciray::shim

@@ -1,0 +1,61 @@
+#pragma once
+// The engine's entry points for one architecture. Included only by the per-ISA
+// translation units (and the scalar one), each compiled with its ISA's flags.
+#include <algorithm>
+#include <limits>
+
+#include "sciray/accel/trace.hpp"
+#include "sciray/frame/render_frame.hpp"
+#include "sciray/shim/engine.hpp"
+
+namespace sciray::shim {
+
+template <class Arch>
+void render_scivis(const MeshWorld& world, const SciVisParams& params, const Camera& camera, FrameBuffer& fb) {
+  const SciVis<Arch, MeshWorld> renderer(world, params);
+  render_frame<Arch>(renderer, camera, fb);
+}
+
+template <class Arch>
+void trace(RTCScene scene, std::span<const Ray<float>> rays, std::span<TraceResult> results) {
+  using F = simd::Float<Arch>;
+  constexpr int W = simd::width<Arch>;
+  const float inf = std::numeric_limits<float>::infinity();
+  for (std::size_t first = 0; first < rays.size(); first += W) {
+    const int count = static_cast<int>(std::min<std::size_t>(W, rays.size() - first));
+    alignas(64) float lanes[8][W];
+    for (int i = 0; i < W; ++i) {
+      const Ray<float>& r = rays[first + std::min(i, count - 1)];
+      const float values[8] = {r.org.x, r.org.y, r.org.z, r.dir.x, r.dir.y, r.dir.z, r.tnear, r.tfar};
+      for (int k = 0; k < 8; ++k) lanes[k][i] = values[k];
+    }
+    Ray<F> ray;
+    ray.org = {simd::load<Arch>(lanes[0]), simd::load<Arch>(lanes[1]), simd::load<Arch>(lanes[2])};
+    ray.dir = {simd::load<Arch>(lanes[3]), simd::load<Arch>(lanes[4]), simd::load<Arch>(lanes[5])};
+    ray.tnear = simd::load<Arch>(lanes[6]);
+    ray.tfar = simd::load<Arch>(lanes[7]);
+    const F active_lanes = simd::lane_index<Arch>();
+    const auto hit = accel::intersect<Arch>(scene, ray, active_lanes < F(static_cast<float>(count)), false);
+    for (int i = 0; i < count; ++i) {
+      const bool lane_hit = simd::lane(hit.hit, i);
+      results[first + i] = {lane_hit ? simd::lane(hit.t, i) : inf, simd::lane(hit.u, i), simd::lane(hit.v, i),
+                            lane_hit ? simd::lane(hit.prim_id, i) : -1, lane_hit ? simd::lane(hit.geom_id, i) : -1};
+    }
+  }
+}
+
+template <class Arch>
+IsaKernels make_kernels(simd::Isa isa) {
+  return {isa, &render_scivis<Arch>, &trace<Arch>};
+}
+
+}  // namespace sciray::shim
+
+/// Defines the one exported symbol of an ISA's translation unit. Everything else in
+/// that object is made local at link time (see c_api/CMakeLists.txt), so inline
+/// functions compiled with wider instructions can never be picked for another ISA.
+#define SCIRAY_DEFINE_ISA_KERNELS(function_name, arch, isa_value)                      \
+  extern "C" const sciray::shim::IsaKernels* function_name() {                         \
+    static const sciray::shim::IsaKernels kernels = sciray::shim::make_kernels<arch>(isa_value); \
+    return &kernels;                                                                   \
+  }

@@ -1,0 +1,203 @@
+// The `sciray` command-line tool: renders meshes (or a built-in scene) to images and
+// reports what the work cost.
+//   sciray info
+//   sciray render [MESH.ply] [--camera cam.json] [--size WxH] [--isa auto|avx512|avx2|sse4.2|scalar]
+//                 [--threads N] [--frames N] [-o out.png|out.pfm] [--depth depth.pfm] [--json]
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+#include <tbb/info.h>
+#include <tbb/task_arena.h>
+
+#include "sciray/io/frame_io.hpp"
+#include "sciray/io/ply.hpp"
+#include "sciray/shim/engine.hpp"
+#include "sciray/testing/scenes.hpp"
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double ms_since(Clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+sciray::Vec3f vec3_field(const nlohmann::json& j, const char* key, const std::string& file) {
+  if (!j.contains(key)) throw sciray::Error(file + ": missing \"" + key + "\"");
+  const auto& v = j[key];
+  if (!v.is_array() || v.size() != 3 || !v[0].is_number() || !v[1].is_number() || !v[2].is_number())
+    throw sciray::Error(file + ": \"" + key + "\" must be an array of 3 numbers");
+  return {v[0].get<float>(), v[1].get<float>(), v[2].get<float>()};
+}
+
+/// {"position":[x,y,z], "look_at":[x,y,z], "up":[x,y,z], "fovy":deg}
+sciray::PerspectiveCamera read_camera(const std::string& file, float aspect) {
+  std::ifstream in(file);
+  if (!in) throw sciray::Error(file + ": cannot open camera file");
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(in);
+  } catch (const nlohmann::json::parse_error& e) {
+    throw sciray::Error(file + ": invalid JSON: " + e.what());
+  }
+  if (!j.is_object()) throw sciray::Error(file + ": expected a JSON object");
+  sciray::PerspectiveCamera camera;
+  camera.position = vec3_field(j, "position", file);
+  camera.direction = vec3_field(j, "look_at", file) - camera.position;
+  camera.up = j.contains("up") ? vec3_field(j, "up", file) : sciray::Vec3f{0.f, 1.f, 0.f};
+  if (j.contains("fovy")) {
+    if (!j["fovy"].is_number()) throw sciray::Error(file + ": \"fovy\" must be a number");
+    camera.fovy = j["fovy"].get<float>();
+  }
+  camera.aspect = aspect;
+  return camera;
+}
+
+std::pair<int, int> parse_size(const std::string& size) {
+  int w = 0, h = 0;
+  char x = 0, extra = 0;
+  if (std::sscanf(size.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X') || w <= 0 || h <= 0)
+    throw sciray::Error("--size: expected WIDTHxHEIGHT (e.g. 1024x768), got '" + size + "'");
+  return {w, h};
+}
+
+struct RenderOptions {
+  std::string mesh;
+  std::string camera;
+  std::string size = "1024x1024";
+  std::string isa = "auto";
+  int threads = 0;
+  int frames = 1;
+  std::string output = "sciray.png";
+  std::string depth;
+  bool json = false;
+};
+
+int render(const RenderOptions& opt) {
+  const auto [width, height] = parse_size(opt.size);
+  if (opt.frames < 1) throw sciray::Error("--frames must be at least 1");
+  if (opt.threads < 0) throw sciray::Error("--threads must be positive (0 = all cores)");
+  const sciray::simd::Isa isa = sciray::shim::select_isa(opt.isa);
+  const auto& kernels = sciray::shim::kernels(isa);
+  const int threads = opt.threads > 0 ? opt.threads : tbb::info::default_concurrency();
+  const bool float_output = std::filesystem::path(opt.output).extension() == ".pfm";
+
+  nlohmann::json report;
+  tbb::task_arena arena(threads);
+  arena.execute([&] {
+    auto start = Clock::now();
+    sciray::MeshData data = opt.mesh.empty() ? sciray::testing::wavy_torus(400'000) : sciray::io::read_ply(opt.mesh);
+    const double load_ms = ms_since(start);
+
+    sciray::accel::Device device;
+    sciray::shim::MeshWorld world(device);
+    sciray::TriangleMesh mesh(std::move(data));
+    const std::size_t triangles = mesh.triangle_count(), vertices = mesh.vertex_count();
+    world.add(std::move(mesh));
+    start = Clock::now();
+    world.commit();
+    const double build_ms = ms_since(start);
+
+    const float aspect = static_cast<float>(width) / static_cast<float>(height);
+    const sciray::Camera camera = opt.camera.empty() ? sciray::frame_bounds(world.bounds(), aspect)
+                                                     : read_camera(opt.camera, aspect);
+    sciray::SciVisParams params;
+    params.background_color = {0.1f, 0.1f, 0.12f};
+    params.background_alpha = 1.f;
+    // A light from the upper left behind the viewer, as a desk lamp would be.
+    const auto& view = std::get<sciray::PerspectiveCamera>(camera);
+    const sciray::Vec3f forward = normalize(view.direction);
+    const sciray::Vec3f right = normalize(cross(forward, view.up));
+    const sciray::Vec3f up = cross(right, forward);
+    params.light_direction = normalize(forward + right * 0.5f - up * 0.7f);
+
+    sciray::FrameBuffer fb(width, height, float_output ? sciray::ColorFormat::rgba32f : sciray::ColorFormat::srgba);
+    std::vector<double> frame_ms;
+    for (int f = 0; f < opt.frames; ++f) {
+      start = Clock::now();
+      kernels.render_scivis(world, params, camera, fb);
+      frame_ms.push_back(ms_since(start));
+    }
+    sciray::io::write_color(fb, opt.output);
+    if (!opt.depth.empty()) sciray::io::write_depth(fb, opt.depth);
+
+    const std::size_t total_bytes = world.memory_bytes();
+    const std::size_t bvh_bytes = static_cast<std::size_t>(std::max<std::int64_t>(0, device.bytes_in_use()));
+    report = {{"file", opt.mesh.empty() ? "builtin:wavy_torus" : opt.mesh},
+              {"output", opt.output},
+              {"isa", std::string(sciray::simd::isa_name(isa))},
+              {"simd_width", sciray::simd::isa_width(isa)},
+              {"threads", threads},
+              {"width", width},
+              {"height", height},
+              {"triangles", triangles},
+              {"vertices", vertices},
+              {"load_ms", load_ms},
+              {"bvh_build_ms", build_ms},
+              {"frame_ms", frame_ms},
+              {"memory_bytes", {{"geometry", total_bytes - bvh_bytes}, {"bvh", bvh_bytes}, {"total", total_bytes}}}};
+  });
+  if (opt.json) {
+    std::cout << report.dump() << "\n";
+  } else {
+    double mean = 0;
+    for (double ms : report["frame_ms"]) mean += ms;
+    mean /= opt.frames;
+    std::cout << "rendered " << report["triangles"] << " triangles at " << width << "x" << height << " with "
+              << report["isa"].get<std::string>() << " on " << threads << " threads: " << mean
+              << " ms/frame -> " << opt.output << "\n";
+  }
+  return 0;
+}
+
+int info(const std::string& isa_request) {
+  std::cout << "supported ISAs:";
+  for (auto isa : sciray::simd::all_isas)
+    if (sciray::simd::cpu_supports(isa)) std::cout << " " << sciray::simd::isa_name(isa);
+  const auto chosen = sciray::shim::select_isa(isa_request);
+  std::cout << "\nchosen: " << sciray::simd::isa_name(chosen) << " (" << sciray::simd::isa_width(chosen)
+            << " lanes)\nthreads: " << tbb::info::default_concurrency() << "\n";
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"sciray: ray tracing for scientific visualization"};
+  app.require_subcommand(1);
+
+  std::string info_isa = "auto";
+  auto* info_cmd = app.add_subcommand("info", "Print the ISAs this CPU supports and the one sciray picks");
+  info_cmd->add_option("--isa", info_isa, "ISA to pick (also SCIRAY_ISA)");
+
+  RenderOptions opt;
+  auto* render_cmd = app.add_subcommand("render", "Render a mesh (or the built-in scene) to an image");
+  render_cmd->add_option("mesh", opt.mesh, "PLY mesh; without it, a built-in scene");
+  render_cmd->add_option("--camera", opt.camera, "camera JSON {position, look_at, up, fovy}");
+  render_cmd->add_option("--size", opt.size, "image size WIDTHxHEIGHT");
+  render_cmd->add_option("--isa", opt.isa, "auto|avx512|avx2|sse4.2|scalar (also SCIRAY_ISA)");
+  render_cmd->add_option("--threads", opt.threads, "threads (0 = all cores)");
+  render_cmd->add_option("--frames", opt.frames, "frames to render and accumulate");
+  render_cmd->add_option("-o,--output", opt.output, "output image (.png, or .pfm for float colour)");
+  render_cmd->add_option("--depth", opt.depth, "also write Euclidean depth to this .pfm");
+  render_cmd->add_flag("--json", opt.json, "print timings and sizes as one JSON object");
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  }
+  try {
+    if (*info_cmd) return info(info_isa);
+    return render(opt);
+  } catch (const std::exception& e) {
+    std::cerr << "sciray: error: " << e.what() << "\n";
+    return 1;
+  }
+}

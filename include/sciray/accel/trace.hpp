@@ -1,0 +1,160 @@
+#pragma once
+// Packet traversal: a packet of W rays maps onto Embree's rtcIntersect4/8/16 and
+// rtcOccluded4/8/16 (SoA structures filled straight from the lane registers); the
+// scalar path uses rtcIntersect1 / rtcOccluded1.
+#include <cstdint>
+
+#include <embree3/rtcore.h>
+
+#include "sciray/math/ray.hpp"
+
+namespace sciray::accel {
+
+/// What a packet of rays hit. Lanes with `hit` false hold no meaningful hit data.
+template <class Arch>
+struct Hit {
+  using F = simd::Float<Arch>;
+  using I = simd::Int<Arch>;
+  simd::Mask<Arch> hit;
+  F t;             ///< distance along the ray
+  F u, v;          ///< Embree's barycentrics of the hit primitive
+  Vec3<F> ng;      ///< unnormalized geometric normal
+  I prim_id;       ///< primitive index (0 where no hit)
+  I geom_id;       ///< Embree geometry id (RTC_INVALID_GEOMETRY_ID where no hit)
+};
+
+namespace detail {
+
+template <int W>
+struct EmbreePacket;
+template <>
+struct EmbreePacket<4> {
+  using RayHit = RTCRayHit4;
+  using Ray = RTCRay4;
+  static void intersect(const int* valid, RTCScene s, RTCIntersectContext* c, RayHit* r) {
+    rtcIntersect4(valid, s, c, r);
+  }
+  static void occluded(const int* valid, RTCScene s, RTCIntersectContext* c, Ray* r) {
+    rtcOccluded4(valid, s, c, r);
+  }
+};
+template <>
+struct EmbreePacket<8> {
+  using RayHit = RTCRayHit8;
+  using Ray = RTCRay8;
+  static void intersect(const int* valid, RTCScene s, RTCIntersectContext* c, RayHit* r) {
+    rtcIntersect8(valid, s, c, r);
+  }
+  static void occluded(const int* valid, RTCScene s, RTCIntersectContext* c, Ray* r) {
+    rtcOccluded8(valid, s, c, r);
+  }
+};
+template <>
+struct EmbreePacket<16> {
+  using RayHit = RTCRayHit16;
+  using Ray = RTCRay16;
+  static void intersect(const int* valid, RTCScene s, RTCIntersectContext* c, RayHit* r) {
+    rtcIntersect16(valid, s, c, r);
+  }
+  static void occluded(const int* valid, RTCScene s, RTCIntersectContext* c, Ray* r) {
+    rtcOccluded16(valid, s, c, r);
+  }
+};
+
+template <class Arch, class EmbreeRay>
+void store_ray(EmbreeRay& out, const Ray<simd::Float<Arch>>& ray) {
+  ray.org.x.store_aligned(out.org_x);
+  ray.org.y.store_aligned(out.org_y);
+  ray.org.z.store_aligned(out.org_z);
+  ray.dir.x.store_aligned(out.dir_x);
+  ray.dir.y.store_aligned(out.dir_y);
+  ray.dir.z.store_aligned(out.dir_z);
+  ray.tnear.store_aligned(out.tnear);
+  ray.tfar.store_aligned(out.tfar);
+  constexpr int W = simd::width<Arch>;
+  for (int i = 0; i < W; ++i) {
+    out.time[i] = 0.f;
+    out.mask[i] = ~0u;
+    out.id[i] = static_cast<unsigned>(i);
+    out.flags[i] = 0;
+  }
+}
+
+inline RTCIntersectContext make_context(bool coherent) {
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  context.flags = coherent ? RTC_INTERSECT_CONTEXT_FLAG_COHERENT : RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
+  return context;
+}
+
+}  // namespace detail
+
+/// Closest hit for each active lane. `coherent` tells Embree the rays are primary-like.
+template <class Arch>
+Hit<Arch> intersect(RTCScene scene, const Ray<simd::Float<Arch>>& ray, const simd::Mask<Arch>& active,
+                    bool coherent = true) {
+  using F = simd::Float<Arch>;
+  using I = simd::Int<Arch>;
+  RTCIntersectContext context = detail::make_context(coherent);
+  Hit<Arch> hit;
+  if constexpr (std::is_same_v<Arch, simd::scalar>) {
+    RTCRayHit rh;
+    rh.ray = {ray.org.x, ray.org.y, ray.org.z, ray.tnear, ray.dir.x, ray.dir.y, ray.dir.z, 0.f, ray.tfar,
+              ~0u, 0u, 0u};
+    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.primID = 0;
+    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    if (active) rtcIntersect1(scene, &context, &rh);
+    hit.hit = active && rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
+    hit.t = rh.ray.tfar;
+    hit.u = rh.hit.u;
+    hit.v = rh.hit.v;
+    hit.ng = {rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z};
+    hit.prim_id = static_cast<std::int32_t>(rh.hit.primID);
+    hit.geom_id = static_cast<std::int32_t>(rh.hit.geomID);
+  } else {
+    using Packet = detail::EmbreePacket<simd::width<Arch>>;
+    typename Packet::RayHit rh;
+    detail::store_ray<Arch>(rh.ray, ray);
+    I(static_cast<std::int32_t>(RTC_INVALID_GEOMETRY_ID)).store_aligned(reinterpret_cast<std::int32_t*>(rh.hit.geomID));
+    I(static_cast<std::int32_t>(RTC_INVALID_GEOMETRY_ID))
+        .store_aligned(reinterpret_cast<std::int32_t*>(rh.hit.instID[0]));
+    I(0).store_aligned(reinterpret_cast<std::int32_t*>(rh.hit.primID));
+    alignas(64) std::int32_t valid[simd::width<Arch>];
+    simd::valid_lanes(active).store_aligned(valid);
+    Packet::intersect(valid, scene, &context, &rh);
+    hit.t = F::load_aligned(rh.ray.tfar);
+    hit.hit = active & (hit.t < ray.tfar);
+    hit.u = F::load_aligned(rh.hit.u);
+    hit.v = F::load_aligned(rh.hit.v);
+    hit.ng = {F::load_aligned(rh.hit.Ng_x), F::load_aligned(rh.hit.Ng_y), F::load_aligned(rh.hit.Ng_z)};
+    hit.prim_id = I::load_aligned(reinterpret_cast<const std::int32_t*>(rh.hit.primID));
+    hit.geom_id = I::load_aligned(reinterpret_cast<const std::int32_t*>(rh.hit.geomID));
+  }
+  return hit;
+}
+
+/// Whether anything blocks each active lane between tnear and tfar.
+template <class Arch>
+simd::Mask<Arch> occluded(RTCScene scene, const Ray<simd::Float<Arch>>& ray, const simd::Mask<Arch>& active,
+                          bool coherent = false) {
+  using F = simd::Float<Arch>;
+  RTCIntersectContext context = detail::make_context(coherent);
+  if constexpr (std::is_same_v<Arch, simd::scalar>) {
+    RTCRay r{ray.org.x, ray.org.y, ray.org.z, ray.tnear, ray.dir.x, ray.dir.y, ray.dir.z, 0.f, ray.tfar,
+             ~0u, 0u, 0u};
+    if (!active) return false;
+    rtcOccluded1(scene, &context, &r);
+    return r.tfar < 0.f;  // Embree sets tfar to -inf on occlusion
+  } else {
+    using Packet = detail::EmbreePacket<simd::width<Arch>>;
+    typename Packet::Ray r;
+    detail::store_ray<Arch>(r, ray);
+    alignas(64) std::int32_t valid[simd::width<Arch>];
+    simd::valid_lanes(active).store_aligned(valid);
+    Packet::occluded(valid, scene, &context, &r);
+    return active & (F::load_aligned(r.tfar) < F(0.f));
+  }
+}
+
+}  // namespace sciray::accel

@@ -1,0 +1,87 @@
+#pragma once
+// One frame: the image is cut into tiles that oneTBB renders in parallel; inside a
+// tile the camera generates one packet per stamp of W pixels (4x1, 4x2, 4x4 for
+// W = 4, 8, 16), the renderer traces and shades it, and the frame buffer accumulates
+// it. Every pixel's sample position depends only on the pixel and the frame index, so
+// the image is the same for any number of threads.
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include "sciray/frame/framebuffer.hpp"
+#include "sciray/math/sequence.hpp"
+#include "sciray/render/camera.hpp"
+#include "sciray/render/sample.hpp"
+
+namespace sciray {
+
+inline constexpr int tile_size = 16;
+
+/// Pixels of a stamp: 4 wide, W/4 high (one pixel for the scalar path).
+template <class Arch>
+struct Stamp {
+  static constexpr int width = simd::width<Arch> >= 4 ? 4 : 1;
+  static constexpr int height = simd::width<Arch> / width;
+};
+
+/// Renders one frame of `renderer` (which maps a packet of camera rays to a
+/// PixelSample) into `fb`, accumulating if the frame buffer does. Run it inside a
+/// tbb::task_arena to bound the threads.
+template <class Arch, class Renderer, class PreparedCamera>
+void render_frame(const Renderer& renderer, const PreparedCamera& camera, FrameBuffer& fb) {
+  using F = simd::Float<Arch>;
+  using M = simd::Mask<Arch>;
+  using S = Stamp<Arch>;
+  static_assert(tile_size % S::width == 0 && tile_size % S::height == 0);
+
+  const int width = fb.width(), height = fb.height();
+  const int tiles_x = (width + tile_size - 1) / tile_size;
+  const int tiles_y = (height + tile_size - 1) / tile_size;
+  const PixelOffset offset = pixel_offset(fb.accumulated_frames());
+  const float inv_width = 1.f / static_cast<float>(width), inv_height = 1.f / static_cast<float>(height);
+
+  // Lane i of a stamp covers pixel (i % stamp width, i / stamp width).
+  const F lane = simd::lane_index<Arch>();
+  F lane_dy;
+  if constexpr (S::width == 1)
+    lane_dy = F(0.f);
+  else
+    lane_dy = xsimd::floor(lane * F(1.f / S::width));
+  const F lane_dx = lane - lane_dy * F(static_cast<float>(S::width));
+
+  tbb::parallel_for(tbb::blocked_range<int>(0, tiles_x * tiles_y), [&](const tbb::blocked_range<int>& range) {
+    alignas(64) float r[simd::width<Arch>], g[simd::width<Arch>], b[simd::width<Arch>], a[simd::width<Arch>],
+        t[simd::width<Arch>], tz[simd::width<Arch>];
+    for (int tile = range.begin(); tile != range.end(); ++tile) {
+      const int tile_x0 = (tile % tiles_x) * tile_size, tile_y0 = (tile / tiles_x) * tile_size;
+      for (int y0 = tile_y0; y0 < std::min(tile_y0 + tile_size, height); y0 += S::height) {
+        for (int x0 = tile_x0; x0 < std::min(tile_x0 + tile_size, width); x0 += S::width) {
+          const F px = F(static_cast<float>(x0)) + lane_dx;
+          const F py = F(static_cast<float>(y0)) + lane_dy;
+          const M active = (px < F(static_cast<float>(width))) & (py < F(static_cast<float>(height)));
+          const auto ray = camera.generate((px + F(offset.x)) * F(inv_width), (py + F(offset.y)) * F(inv_height));
+          const PixelSample<Arch> sample = renderer.render(ray, active);
+          simd::store<Arch>(r, sample.color.x);
+          simd::store<Arch>(g, sample.color.y);
+          simd::store<Arch>(b, sample.color.z);
+          simd::store<Arch>(a, sample.alpha);
+          simd::store<Arch>(t, sample.t);
+          simd::store<Arch>(tz, camera.projected_depth(ray, sample.t));
+          for (int i = 0; i < simd::width<Arch>; ++i) {
+            const int x = x0 + i % S::width, y = y0 + i / S::width;
+            if (x >= width || y >= height) continue;
+            fb.write_sample(static_cast<std::size_t>(y) * width + x, r[i], g[i], b[i], a[i], t[i], tz[i]);
+          }
+        }
+      }
+    }
+  });
+  fb.finish_frame();
+}
+
+/// render_frame for a Camera variant: the camera type is resolved once per frame.
+template <class Arch, class Renderer>
+void render_frame(const Renderer& renderer, const Camera& camera, FrameBuffer& fb) {
+  std::visit([&](const auto& c) { render_frame<Arch>(renderer, prepare(c), fb); }, camera);
+}
+
+}  // namespace sciray

@@ -1,0 +1,24 @@
+#pragma once
+// The owned form of a triangle or quad mesh, as loaders produce it.
+#include <cstdint>
+
+#include "sciray/geometry/data.hpp"
+
+namespace sciray {
+
+/// A polygon mesh with every face a triangle (3 indices) or every face a quad
+/// (4 indices; a triangle in a quad mesh repeats its last index, as Embree and OSPRay
+/// allow). Optional arrays are empty when absent.
+struct MeshData {
+  PaddedVector<float> positions;       ///< x,y,z per vertex
+  PaddedVector<std::uint32_t> indices;  ///< vertices_per_face per face
+  unsigned vertices_per_face = 3;       ///< 3 or 4
+  PaddedVector<float> normals;          ///< x,y,z per vertex, or empty
+  PaddedVector<float> vertex_colors;    ///< r,g,b,a per vertex in [0,1], or empty
+  PaddedVector<float> face_colors;      ///< r,g,b,a per face in [0,1], or empty
+
+  std::size_t vertex_count() const { return positions.size() / 3; }
+  std::size_t face_count() const { return indices.size() / vertices_per_face; }
+};
+
+}  // namespace sciray

@@ -1,0 +1,227 @@
+#pragma once
+// Triangle and quad meshes (OSPRay's `mesh`). The mesh reads its arrays through views,
+// so it either owns them (from a loader's MeshData) or shares the caller's memory with
+// no copy; Embree reads the same memory. `validate` runs once at commit and names the
+// first bad value, so the per-ray code can trust every index.
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <string>
+
+#include "sciray/accel/embree.hpp"
+#include "sciray/accel/trace.hpp"
+#include "sciray/error.hpp"
+#include "sciray/geometry/data.hpp"
+#include "sciray/geometry/mesh_data.hpp"
+#include "sciray/geometry/surface.hpp"
+#include "sciray/math/box.hpp"
+
+namespace sciray {
+
+class TriangleMesh {
+public:
+  /// Arrays of a mesh the caller owns and keeps alive while sciray uses it. Embree reads
+  /// up to 16 bytes past the last position and index element (embree_buffer_padding).
+  struct SharedArrays {
+    StridedView<float> positions;          ///< 3 floats per vertex
+    StridedView<std::uint32_t> indices;    ///< vertices_per_face per face
+    unsigned vertices_per_face = 3;
+    StridedView<float> normals;            ///< 3 floats per vertex, optional
+    StridedView<float> vertex_colors;      ///< 4 floats per vertex, optional
+    StridedView<float> face_colors;        ///< 4 floats per face, optional
+  };
+
+  /// Takes ownership of loaded data (no copy: the vectors move into the mesh).
+  explicit TriangleMesh(MeshData data) {
+    auto owned = std::make_shared<MeshData>(std::move(data));
+    const MeshData& d = *owned;
+    arrays_.vertices_per_face = d.vertices_per_face;
+    arrays_.positions = {d.positions.data(), d.vertex_count(), 3 * sizeof(float)};
+    arrays_.indices = {d.indices.data(), d.vertices_per_face ? d.indices.size() / d.vertices_per_face : 0,
+                       d.vertices_per_face * sizeof(std::uint32_t)};
+    if (!d.normals.empty()) arrays_.normals = {d.normals.data(), d.normals.size() / 3, 3 * sizeof(float)};
+    if (!d.vertex_colors.empty())
+      arrays_.vertex_colors = {d.vertex_colors.data(), d.vertex_colors.size() / 4, 4 * sizeof(float)};
+    if (!d.face_colors.empty())
+      arrays_.face_colors = {d.face_colors.data(), d.face_colors.size() / 4, 4 * sizeof(float)};
+    owned_bytes_ = (d.positions.size() + d.normals.size() + d.vertex_colors.size() + d.face_colors.size()) *
+                       sizeof(float) +
+                   d.indices.size() * sizeof(std::uint32_t);
+    keep_alive_ = std::move(owned);
+  }
+
+  /// Shares the caller's arrays (zero-copy).
+  static TriangleMesh shared(const SharedArrays& arrays) { return TriangleMesh(arrays); }
+
+  const SharedArrays& arrays() const { return arrays_; }
+  unsigned vertices_per_face() const { return arrays_.vertices_per_face; }
+  std::size_t vertex_count() const { return arrays_.positions.count; }
+  std::size_t face_count() const { return arrays_.indices.count; }
+  /// Triangles the mesh represents: a quad counts two unless it repeats its last index.
+  std::size_t triangle_count() const {
+    if (arrays_.vertices_per_face == 3) return face_count();
+    std::size_t triangles = 0;
+    for (std::size_t f = 0; f < face_count(); ++f) {
+      const std::uint32_t* q = arrays_.indices.element(f);
+      triangles += q[2] == q[3] ? 1 : 2;
+    }
+    return triangles;
+  }
+  /// Bytes of mesh data sciray owns (0 for shared arrays, which the caller owns).
+  std::size_t owned_bytes() const { return owned_bytes_; }
+
+  /// Checks every array and index; throws an Error naming the first problem.
+  void validate() const {
+    const auto& a = arrays_;
+    if (a.vertices_per_face != 3 && a.vertices_per_face != 4)
+      throw Error("mesh: 'index' must hold 3 (triangles) or 4 (quads) indices per face, got " +
+                  std::to_string(a.vertices_per_face));
+    if (a.positions.empty()) throw Error("mesh: 'vertex.position' is missing or empty");
+    if (a.indices.empty()) throw Error("mesh: 'index' is missing or empty");
+    check_stride("vertex.position", a.positions, 3 * sizeof(float));
+    check_stride("index", a.indices, a.vertices_per_face * sizeof(std::uint32_t));
+    // Shading gathers with 32-bit float offsets; larger arrays would wrap.
+    const std::size_t max_floats = std::numeric_limits<std::int32_t>::max();
+    if (a.positions.count * (a.positions.byte_stride / sizeof(float)) > max_floats ||
+        a.indices.count * (a.indices.byte_stride / sizeof(std::uint32_t)) > max_floats)
+      throw Error("mesh: more than 2^31 array elements; split the mesh into several geometries");
+    for (std::size_t i = 0; i < a.positions.count; ++i) {
+      const float* p = a.positions.element(i);
+      if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2]))
+        throw Error("mesh: 'vertex.position' " + std::to_string(i) + " is not finite (" + std::to_string(p[0]) +
+                    ", " + std::to_string(p[1]) + ", " + std::to_string(p[2]) + ")");
+    }
+    for (std::size_t f = 0; f < a.indices.count; ++f) {
+      const std::uint32_t* face = a.indices.element(f);
+      for (unsigned k = 0; k < a.vertices_per_face; ++k)
+        if (face[k] >= a.positions.count)
+          throw Error("mesh: 'index' of face " + std::to_string(f) + " refers to vertex " +
+                      std::to_string(face[k]) + " but 'vertex.position' has " +
+                      std::to_string(a.positions.count));
+    }
+    check_optional("vertex.normal", a.normals, a.positions.count, 3, "vertices");
+    check_optional("vertex.color", a.vertex_colors, a.positions.count, 4, "vertices");
+    check_optional("color", a.face_colors, a.indices.count, 4, "faces");
+  }
+
+  Box3f bounds() const {
+    Box3f box;
+    for (std::size_t i = 0; i < arrays_.positions.count; ++i) {
+      const float* p = arrays_.positions.element(i);
+      box.extend(Vec3f{p[0], p[1], p[2]});
+    }
+    return box;
+  }
+
+  /// A committed Embree triangle or quad geometry reading this mesh's arrays in place.
+  RTCGeometry create_embree_geometry(const accel::Device& device) const {
+    const bool quads = arrays_.vertices_per_face == 4;
+    accel::GeometryHandle geometry(device, quads ? RTC_GEOMETRY_TYPE_QUAD : RTC_GEOMETRY_TYPE_TRIANGLE);
+    rtcSetSharedGeometryBuffer(geometry.get(), RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                               arrays_.positions.base, 0, arrays_.positions.byte_stride, arrays_.positions.count);
+    rtcSetSharedGeometryBuffer(geometry.get(), RTC_BUFFER_TYPE_INDEX, 0,
+                               quads ? RTC_FORMAT_UINT4 : RTC_FORMAT_UINT3, arrays_.indices.base, 0,
+                               arrays_.indices.byte_stride, arrays_.indices.count);
+    device.check("mesh: rtcSetSharedGeometryBuffer");
+    rtcCommitGeometry(geometry.get());
+    device.check("mesh: rtcCommitGeometry");
+    RTCGeometry result = geometry.get();
+    rtcRetainGeometry(result);
+    return result;
+  }
+
+  /// Interpolated normal and colour at the hits of lanes `lanes` (all hitting this mesh).
+  template <class Arch>
+  SurfaceSample<Arch> surface(const accel::Hit<Arch>& hit, const simd::Mask<Arch>& lanes) const {
+    using F = simd::Float<Arch>;
+    using I = simd::Int<Arch>;
+    const auto& a = arrays_;
+    // Lanes outside `lanes` may carry another geometry's primitive ids: read face 0.
+    const I prim = simd::select(lanes, hit.prim_id, I(0));
+    const auto* index = reinterpret_cast<const std::int32_t*>(a.indices.base);
+    const I face = prim * I(static_cast<std::int32_t>(a.indices.byte_stride / sizeof(std::uint32_t)));
+    I i0 = simd::gather<Arch>(index, face), i1 = simd::gather<Arch>(index, face + I(1)),
+      i2 = simd::gather<Arch>(index, face + I(2));
+    F w0 = F(1.f) - hit.u - hit.v, w1 = hit.u, w2 = hit.v;
+    if (a.vertices_per_face == 4) {
+      // Embree splits quad (v0,v1,v2,v3) into triangles (v0,v1,v3) and (v2,v3,v1), with
+      // the second's barycentrics mirrored so that (u,v) spans the unit square.
+      const I i3 = simd::gather<Arch>(index, face + I(3));
+      const auto first = (hit.u + hit.v) <= F(1.f);
+      const I corner_a = simd::select(first, i0, i2), corner_b = simd::select(first, i1, i3);
+      i2 = simd::select(first, i3, i1);
+      i0 = corner_a, i1 = corner_b;
+      w0 = simd::select(first, w0, hit.u + hit.v - F(1.f));
+      w1 = simd::select(first, w1, F(1.f) - hit.u);
+      w2 = simd::select(first, w2, F(1.f) - hit.v);
+    }
+    SurfaceSample<Arch> s;
+    if (!a.normals.empty()) {
+      const auto n = interpolate<Arch, 3>(a.normals, i0, i1, i2, w0, w1, w2);
+      s.normal = normalize(Vec3<F>{n[0], n[1], n[2]});
+    } else {
+      s.normal = normalize(hit.ng);
+    }
+    s.opacity = F(1.f);
+    s.has_color = lanes;
+    if (!a.vertex_colors.empty()) {
+      const auto c = interpolate<Arch, 4>(a.vertex_colors, i0, i1, i2, w0, w1, w2);
+      s.color = {c[0], c[1], c[2]};
+      s.opacity = c[3];
+    } else if (!a.face_colors.empty()) {
+      const auto* colors = a.face_colors.data();
+      const I at = prim * I(static_cast<std::int32_t>(a.face_colors.byte_stride / sizeof(float)));
+      s.color = {simd::gather<Arch>(colors, at), simd::gather<Arch>(colors, at + I(1)),
+                 simd::gather<Arch>(colors, at + I(2))};
+      s.opacity = simd::gather<Arch>(colors, at + I(3));
+    } else {
+      s.has_color = simd::Mask<Arch>(false);
+    }
+    return s;
+  }
+
+private:
+  template <class Arch, int N>
+  static std::array<simd::Float<Arch>, N> interpolate(const StridedView<float>& view, const simd::Int<Arch>& i0,
+                                                      const simd::Int<Arch>& i1, const simd::Int<Arch>& i2,
+                                                      const simd::Float<Arch>& w0, const simd::Float<Arch>& w1,
+                                                      const simd::Float<Arch>& w2) {
+    using I = simd::Int<Arch>;
+    const I stride(static_cast<std::int32_t>(view.byte_stride / sizeof(float)));
+    const I a = i0 * stride, b = i1 * stride, c = i2 * stride;
+    std::array<simd::Float<Arch>, N> out;
+    for (int k = 0; k < N; ++k)
+      out[k] = w0 * simd::gather<Arch>(view.data(), a + I(k)) + w1 * simd::gather<Arch>(view.data(), b + I(k)) +
+               w2 * simd::gather<Arch>(view.data(), c + I(k));
+    return out;
+  }
+
+  explicit TriangleMesh(const SharedArrays& arrays) : arrays_(arrays) {}
+
+  template <class T>
+  static void check_stride(const char* name, const StridedView<T>& view, std::size_t min_stride) {
+    if (view.byte_stride < min_stride || view.byte_stride % sizeof(float) != 0)
+      throw Error(std::string("mesh: '") + name + "' byte stride " + std::to_string(view.byte_stride) +
+                  " must be a multiple of 4 and at least " + std::to_string(min_stride));
+  }
+  static void check_optional(const char* name, const StridedView<float>& view, std::size_t expected,
+                             std::size_t components, const char* per) {
+    if (view.empty()) return;
+    check_stride(name, view, components * sizeof(float));
+    if (view.count != expected)
+      throw Error(std::string("mesh: '") + name + "' has " + std::to_string(view.count) + " elements but there are " +
+                  std::to_string(expected) + " " + per);
+    for (std::size_t i = 0; i < view.count; ++i)
+      for (std::size_t c = 0; c < components; ++c)
+        if (!std::isfinite(view.element(i)[c]))
+          throw Error(std::string("mesh: '") + name + "' " + std::to_string(i) + " is not finite");
+  }
+
+  SharedArrays arrays_;
+  std::size_t owned_bytes_ = 0;
+  std::shared_ptr<const void> keep_alive_;
+};
+
+}  // namespace sciray

@@ -1,0 +1,82 @@
+#pragma once
+// The `scivis` renderer, first cut: OpenGL-like local shading of the first hit with
+// per-vertex or per-face colours, (interpolated) normals, one directional light and
+// ambient light, two-sided as visualization data is rarely closed. Later issues add
+// shadows, ambient occlusion and transparency.
+#include <cmath>
+#include <limits>
+
+#include "sciray/accel/trace.hpp"
+#include "sciray/math/vec.hpp"
+#include "sciray/render/sample.hpp"
+
+namespace sciray {
+
+struct SciVisParams {
+  Vec3f background_color{0.f, 0.f, 0.f};
+  float background_alpha = 0.f;
+  Vec3f default_color{0.8f, 0.8f, 0.8f};  ///< where the geometry has no colours
+  Vec3f ambient_color{1.f, 1.f, 1.f};
+  float ambient_intensity = 0.2f;
+  Vec3f light_direction{0.f, 0.f, -1.f};  ///< the direction the light travels (OSPRay 'distant')
+  Vec3f light_color{1.f, 1.f, 1.f};
+  float light_intensity = 0.8f;
+};
+
+template <class Arch, class WorldT>
+class SciVis {
+public:
+  using F = simd::Float<Arch>;
+  using M = simd::Mask<Arch>;
+
+  SciVis(const WorldT& world, const SciVisParams& params)
+      : world_(&world), params_(params), to_light_(-normalize(params.light_direction)) {}
+
+  PixelSample<Arch> render(const Ray<F>& ray, const M& active) const {
+    const auto hit = accel::intersect<Arch>(world_->scene(), ray, active, true);
+    PixelSample<Arch> out;
+    out.color = Vec3<F>(params_.background_color);
+    out.alpha = F(params_.background_alpha);
+    out.t = simd::select(hit.hit, hit.t, F(std::numeric_limits<float>::infinity()));
+    if (!simd::any(hit.hit)) return out;
+
+    // A packet usually hits one geometry; shade each geometry's lanes together.
+    M remaining = hit.hit;
+    while (simd::any(remaining)) {
+      const std::int32_t geom_id = first_lane(hit.geom_id, remaining);
+      const M lanes = remaining & (simd::to_float(hit.geom_id) == F(static_cast<float>(geom_id)));
+      world_->visit(static_cast<std::uint32_t>(geom_id), [&](const auto& geometry) {
+        const auto surface = geometry.template surface<Arch>(hit, lanes);
+        out.color = select(lanes, shade(ray, surface), out.color);
+      });
+      out.alpha = simd::select(lanes, F(1.f), out.alpha);
+      remaining = remaining & !lanes;
+    }
+    return out;
+  }
+
+private:
+  template <class Surface>
+  Vec3<F> shade(const Ray<F>& ray, const Surface& s) const {
+    // Face the normal towards the viewer: both sides of a surface are lit.
+    const F facing = dot(s.normal, ray.dir);
+    const Vec3<F> n = select(facing > F(0.f), -s.normal, s.normal);
+    const F diffuse = simd::max(F(0.f), dot(n, Vec3<F>(to_light_)));
+    const Vec3<F> albedo = select(s.has_color, s.color, Vec3<F>(params_.default_color));
+    const Vec3<F> light = Vec3<F>(params_.ambient_color * params_.ambient_intensity) +
+                          Vec3<F>(params_.light_color * params_.light_intensity) * diffuse;
+    return albedo * light;
+  }
+
+  static std::int32_t first_lane(const simd::Int<Arch>& values, const M& mask) {
+    for (int i = 0; i < simd::width<Arch>; ++i)
+      if (simd::lane(mask, i)) return simd::lane(values, i);
+    return 0;
+  }
+
+  const WorldT* world_;
+  SciVisParams params_;
+  Vec3f to_light_;
+};
+
+}  // namespace sciray

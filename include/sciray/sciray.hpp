@@ -1,0 +1,25 @@
+#pragma once
+// sciray: a header-only C++20 CPU ray tracing engine for scientific visualization.
+// This umbrella header brings in the whole engine; include single headers to compile
+// less.
+#include "sciray/accel/embree.hpp"
+#include "sciray/accel/trace.hpp"
+#include "sciray/error.hpp"
+#include "sciray/frame/framebuffer.hpp"
+#include "sciray/frame/render_frame.hpp"
+#include "sciray/geometry/mesh_data.hpp"
+#include "sciray/geometry/triangle_mesh.hpp"
+#include "sciray/io/frame_io.hpp"
+#include "sciray/io/image.hpp"
+#include "sciray/io/ply.hpp"
+#include "sciray/math/box.hpp"
+#include "sciray/math/color.hpp"
+#include "sciray/math/ray.hpp"
+#include "sciray/math/sequence.hpp"
+#include "sciray/math/vec.hpp"
+#include "sciray/render/camera.hpp"
+#include "sciray/render/scivis.hpp"
+#include "sciray/scene/world.hpp"
+#include "sciray/simd/arch.hpp"
+#include "sciray/simd/packet.hpp"
+#include "sciray/testing/scenes.hpp"

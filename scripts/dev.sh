@@ -1,0 +1,41 @@
+#!/usr/bin/env bash
+# One-step set-up for a fresh Debian 12 machine: installs the Debian packages sciray
+# needs (if missing), configures and builds, then does what was asked:
+#   scripts/dev.sh render   renders the built-in scene to sciray.png
+#   scripts/dev.sh test     runs the whole test suite
+# BUILD_DIR (default build) and JOBS (default: all cores) can be set in the environment.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+packages=(build-essential cmake pkg-config libembree-dev libxsimd-dev libtbb-dev libstb-dev catch2
+          libbenchmark-dev nlohmann-json3-dev libcli11-dev python3)
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if ((${#missing[@]})); then
+  sudo=""
+  [ "$(id -u)" -eq 0 ] || sudo=sudo
+  $sudo apt-get update
+  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y --no-install-recommends "${missing[@]}"
+fi
+
+build_dir=${BUILD_DIR:-build}
+jobs=${JOBS:-$(nproc)}
+werror=OFF
+[ "${CI:-}" = true ] && werror=ON
+cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release -DSCIRAY_WERROR=$werror
+cmake --build "$build_dir" -j "$jobs"
+
+case "${1:-}" in
+  render)
+    "$build_dir/examples/sciray" render -o sciray.png
+    ;;
+  test)
+    ctest --test-dir "$build_dir" --output-on-failure -j "$jobs"
+    ;;
+  *)
+    echo "usage: scripts/dev.sh render|test" >&2
+    exit 2
+    ;;
+esac

@@ -1,0 +1,25 @@
+# Installs the build tree into a scratch prefix, then configures, builds and runs
+# tests/consumer against it with only CMAKE_PREFIX_PATH pointing there.
+set(prefix ${BUILD_DIR}/install-test/prefix)
+set(consumer_build ${BUILD_DIR}/install-test/consumer)
+file(REMOVE_RECURSE ${BUILD_DIR}/install-test)
+
+function(run)
+  execute_process(COMMAND ${ARGV} RESULT_VARIABLE result)
+  if(NOT result EQUAL 0)
+    message(FATAL_ERROR "failed (${result}): ${ARGV}")
+  endif()
+endfunction()
+
+run(${CMAKE_COMMAND} --install ${BUILD_DIR} --prefix ${prefix})
+foreach(expected bin/sciray include/sciray/sciray.hpp lib/cmake/sciray/sciray-config.cmake)
+  if(NOT EXISTS ${prefix}/${expected})
+    message(FATAL_ERROR "the install lacks ${expected}")
+  endif()
+endforeach()
+run(${CMAKE_COMMAND} -S ${SOURCE_DIR}/tests/consumer -B ${consumer_build} -DCMAKE_BUILD_TYPE=Release
+    -DCMAKE_PREFIX_PATH=${prefix})
+run(${CMAKE_COMMAND} --build ${consumer_build})
+run(${consumer_build}/header_only)
+run(${consumer_build}/through_shim)
+message(STATUS "installed package builds and runs")
