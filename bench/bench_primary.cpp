@@ -9,6 +9,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include "sciray/frame/render_frame.hpp"
 #include "sciray/shim/engine.hpp"
 #include "sciray/testing/scenes.hpp"
 
