@@ -39,8 +39,8 @@ const Scene& torus(std::size_t triangles) {
 void engine_frame(benchmark::State& state, sciray::simd::Isa isa, std::size_t triangles) {
   const Scene& scene = torus(triangles);
   const auto& kernels = sciray::shim::kernels(isa);
-  sciray::FrameBuffer fb(image_size, image_size, sciray::ColorFormat::srgba,
-                         sciray::channel_color | sciray::channel_depth);
+  sciray::FrameBuffer fb(image_size, image_size, state.range(0) ? sciray::ColorFormat::srgba : sciray::ColorFormat::none,
+                         state.range(0) ? sciray::channel_color : 0u);
   for (auto _ : state) kernels.render_scivis(scene.world, sciray::SciVisParams{}, scene.camera, fb);
   state.SetItemsProcessed(state.iterations() * image_size * image_size);
 }
@@ -87,14 +87,15 @@ const bool registered = [] {
     benchmark::RegisterBenchmark((std::string("frame/raw_embree/intersect16/") + name).c_str(), raw_embree_frame,
                                  triangles)
         ->Unit(benchmark::kMillisecond)
-        ->UseRealTime();
+        ->MeasureProcessCPUTime();
     for (auto isa : sciray::simd::all_isas) {
       if (!sciray::simd::cpu_supports(isa)) continue;
       benchmark::RegisterBenchmark(
           ("frame/scivis/" + std::string(sciray::simd::isa_name(isa)) + "/" + name).c_str(), engine_frame, isa,
           triangles)
+          ->ArgName("color")->Arg(0)->Arg(1)
           ->Unit(benchmark::kMillisecond)
-          ->UseRealTime();
+          ->MeasureProcessCPUTime();
     }
   }
   return true;

@@ -9,7 +9,6 @@ struct SurfaceSample {
   using F = simd::Float<Arch>;
   Vec3<F> normal;  ///< unit shading normal (not yet facing the ray)
   Vec3<F> color;   ///< base colour (linear RGB)
-  F opacity;
   simd::Mask<Arch> has_color;  ///< whether the geometry supplied the colour
 };
 

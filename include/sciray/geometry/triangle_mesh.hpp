@@ -164,18 +164,15 @@ public:
     } else {
       s.normal = normalize(hit.ng);
     }
-    s.opacity = F(1.f);
     s.has_color = lanes;
     if (!a.vertex_colors.empty()) {
-      const auto c = interpolate<Arch, 4>(a.vertex_colors, i0, i1, i2, w0, w1, w2);
+      const auto c = interpolate<Arch, 3>(a.vertex_colors, i0, i1, i2, w0, w1, w2);
       s.color = {c[0], c[1], c[2]};
-      s.opacity = c[3];
     } else if (!a.face_colors.empty()) {
       const auto* colors = a.face_colors.data();
       const I at = prim * I(static_cast<std::int32_t>(a.face_colors.byte_stride / sizeof(float)));
       s.color = {simd::gather<Arch>(colors, at), simd::gather<Arch>(colors, at + I(1)),
                  simd::gather<Arch>(colors, at + I(2))};
-      s.opacity = simd::gather<Arch>(colors, at + I(3));
     } else {
       s.has_color = simd::Mask<Arch>(false);
     }

@@ -16,9 +16,10 @@ inline float srgb_to_linear(float encoded) {
   return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
 }
 
-/// Quantizes [0,1] to 8 bits, rounding to nearest.
+/// Quantizes [0,1] to 8 bits, rounding to nearest (NaN maps to 0).
 inline std::uint8_t to_unorm8(float v) {
-  return static_cast<std::uint8_t>(std::lround(std::clamp(v, 0.f, 1.f) * 255.f));
+  const float c = v > 0.f ? (v < 1.f ? v : 1.f) : 0.f;
+  return static_cast<std::uint8_t>(c * 255.f + 0.5f);
 }
 
 }  // namespace sciray

@@ -162,20 +162,37 @@ void store(std::int32_t* p, const Int<Arch>& v) {
     v.store_unaligned(p);
 }
 
-/// Reads base[index[i]] for each lane (`index` in elements of float).
-template <class Arch>
-Float<Arch> gather(const float* base, const Int<Arch>& index) {
-  if constexpr (std::is_same_v<Arch, scalar>)
+/// Reads base[index[i]] for each lane (`index` in elements). xsimd 8.1 gathers AVX-512
+/// batches one lane at a time, so the hardware gathers are called directly.
+template <class Arch, class T>
+auto gather(const T* base, const Int<Arch>& index) {
+  static_assert(std::is_same_v<T, float> || std::is_same_v<T, std::int32_t>);
+  if constexpr (std::is_same_v<Arch, scalar>) {
     return base[index];
-  else
-    return Float<Arch>::gather(base, index);
-}
-template <class Arch>
-Int<Arch> gather(const std::int32_t* base, const Int<Arch>& index) {
-  if constexpr (std::is_same_v<Arch, scalar>)
-    return base[index];
-  else
-    return Int<Arch>::gather(base, index);
+  } else {
+    using Batch = xsimd::batch<T, Arch>;
+#if defined(__AVX512F__)
+    if constexpr (std::is_base_of_v<xsimd::avx512f, Arch>) {
+      if constexpr (std::is_same_v<T, float>)
+        return Batch(_mm512_i32gather_ps(index, base, sizeof(T)));
+      else
+        return Batch(_mm512_i32gather_epi32(index, base, sizeof(T)));
+    }
+#endif
+#if defined(__AVX2__)
+    if constexpr (std::is_base_of_v<xsimd::avx2, Arch>) {
+      if constexpr (std::is_same_v<T, float>)
+        return Batch(_mm256_i32gather_ps(base, index, sizeof(T)));
+      else
+        return Batch(_mm256_i32gather_epi32(reinterpret_cast<const int*>(base), index, sizeof(T)));
+    }
+#endif
+    alignas(64) std::int32_t at[width<Arch>];
+    alignas(64) T values[width<Arch>];
+    index.store_aligned(at);
+    for (int i = 0; i < width<Arch>; ++i) values[i] = base[at[i]];
+    return Batch::load_aligned(values);
+  }
 }
 
 /// Lane indices 0, 1, ..., W-1 as floats.
