@@ -23,21 +23,24 @@ struct Scene {
   sciray::PerspectiveCamera camera;
 };
 
-/// The torus of about `triangles` triangles, built once per process.
-const Scene& torus(std::size_t triangles) {
-  static std::map<std::size_t, std::unique_ptr<Scene>> cache;
-  auto& scene = cache[triangles];
+/// The torus of about `triangles` triangles, built once per process; `plain` drops its
+/// vertex normals and colours (shading then uses the geometric normal).
+const Scene& torus(std::size_t triangles, bool plain) {
+  static std::map<std::pair<std::size_t, bool>, std::unique_ptr<Scene>> cache;
+  auto& scene = cache[{triangles, plain}];
   if (!scene) {
     scene = std::make_unique<Scene>();
-    scene->world.add(sciray::TriangleMesh(sciray::testing::wavy_torus(triangles)));
+    sciray::MeshData mesh = sciray::testing::wavy_torus(triangles);
+    if (plain) mesh.normals.clear(), mesh.vertex_colors.clear();
+    scene->world.add(sciray::TriangleMesh(std::move(mesh)));
     scene->world.commit();
     scene->camera = sciray::frame_bounds(scene->world.bounds(), 1.f);
   }
   return *scene;
 }
 
-void engine_frame(benchmark::State& state, sciray::simd::Isa isa, std::size_t triangles) {
-  const Scene& scene = torus(triangles);
+void engine_frame(benchmark::State& state, sciray::simd::Isa isa, std::size_t triangles, bool plain) {
+  const Scene& scene = torus(triangles, plain);
   const auto& kernels = sciray::shim::kernels(isa);
   sciray::FrameBuffer fb(image_size, image_size, state.range(0) ? sciray::ColorFormat::srgba : sciray::ColorFormat::none,
                          state.range(0) ? sciray::channel_color : 0u);
@@ -46,7 +49,7 @@ void engine_frame(benchmark::State& state, sciray::simd::Isa isa, std::size_t tr
 }
 
 void raw_embree_frame(benchmark::State& state, std::size_t triangles) {
-  const Scene& scene = torus(triangles);
+  const Scene& scene = torus(triangles, true);
   const auto camera = sciray::prepare(scene.camera);
   std::vector<float> depth(static_cast<std::size_t>(image_size) * image_size);
   constexpr int tile = sciray::tile_size, tiles = image_size / tile;
@@ -90,12 +93,16 @@ const bool registered = [] {
         ->MeasureProcessCPUTime();
     for (auto isa : sciray::simd::all_isas) {
       if (!sciray::simd::cpu_supports(isa)) continue;
-      benchmark::RegisterBenchmark(
-          ("frame/scivis/" + std::string(sciray::simd::isa_name(isa)) + "/" + name).c_str(), engine_frame, isa,
-          triangles)
-          ->ArgName("color")->Arg(0)->Arg(1)
-          ->Unit(benchmark::kMillisecond)
-          ->MeasureProcessCPUTime();
+      for (bool plain : {true, false})
+        benchmark::RegisterBenchmark(("frame/scivis/" + std::string(sciray::simd::isa_name(isa)) + "/" + name +
+                                      (plain ? "_plain" : "_normals_colors"))
+                                         .c_str(),
+                                     engine_frame, isa, triangles, plain)
+            ->ArgName("color")
+            ->Arg(0)
+            ->Arg(1)
+            ->Unit(benchmark::kMillisecond)
+            ->MeasureProcessCPUTime();
     }
   }
   return true;

@@ -12,6 +12,8 @@
 
 #include "sciray/error.hpp"
 #include "sciray/math/color.hpp"
+#include "sciray/math/vec.hpp"
+#include "sciray/simd/packet.hpp"
 
 namespace sciray {
 
@@ -42,9 +44,11 @@ public:
   FrameBuffer(int width, int height, ColorFormat format = ColorFormat::srgba,
               unsigned channels = channel_color | channel_depth | channel_accum)
       : width_(width), height_(height), format_(format), channels_(channels) {
-    if (width <= 0 || height <= 0 || width > 65536 || height > 65536)
+    // Pixels are addressed with 32-bit lane indices.
+    if (width <= 0 || height <= 0 ||
+        static_cast<std::size_t>(width) * static_cast<std::size_t>(height) > std::size_t{INT32_MAX})
       throw Error("framebuffer: size " + std::to_string(width) + "x" + std::to_string(height) +
-                  " must be positive and at most 65536x65536");
+                  " must be positive with fewer than 2^31 pixels");
     if (format == ColorFormat::none) channels_ &= ~unsigned(channel_color);
     const std::size_t n = pixel_count();
     if (channels_ & channel_accum) accum_.assign(4 * n, 0.f);
@@ -70,44 +74,62 @@ public:
   /// Called by the renderer after every pixel of a frame is written.
   void finish_frame() { frames_ = has(channel_accum) ? frames_ + 1 : 1; }
 
-  /// Stores one pixel's sample of the frame being rendered (frame index
-  /// accumulated_frames()) and updates the colour channel. Each pixel is written by one
-  /// thread per frame, so no synchronisation is needed and results do not depend on
-  /// the thread count.
-  void write_sample(std::size_t pixel, float r, float g, float b, float a, float depth, float depth_projected) {
-    if (has(channel_accum)) {
-      float* acc = &accum_[4 * pixel];
-      if (frames_ == 0) {
-        acc[0] = r, acc[1] = g, acc[2] = b, acc[3] = a;
-      } else {
-        acc[0] += r, acc[1] += g, acc[2] += b, acc[3] += a;
-      }
-      const float inv = 1.f / static_cast<float>(frames_ + 1);
-      r = acc[0] * inv, g = acc[1] * inv, b = acc[2] * inv, a = acc[3] * inv;
-    }
+  /// Stores a packet of samples of the frame being rendered (frame index
+  /// accumulated_frames()); lane i goes to pixel `pixel[i]`, or nowhere if it is
+  /// negative. Each pixel is written by one thread per frame, so no synchronisation is
+  /// needed and results do not depend on the thread count.
+  template <class Arch>
+  void write_packet(const std::int32_t* pixel, const Vec3<simd::Float<Arch>>& color, const simd::Float<Arch>& alpha,
+                    const simd::Float<Arch>& depth, const simd::Float<Arch>& depth_projected) {
+    using F = simd::Float<Arch>;
+    constexpr int W = simd::width<Arch>;
+    alignas(64) float rgba[4][W];
+    simd::store<Arch>(rgba[0], color.x);
+    simd::store<Arch>(rgba[1], color.y);
+    simd::store<Arch>(rgba[2], color.z);
+    simd::store<Arch>(rgba[3], alpha);
     if (has(channel_depth)) {
-      depth_[pixel] = depth;
-      depth_projected_[pixel] = depth_projected;
+      alignas(64) float t[W], tz[W];
+      simd::store<Arch>(t, depth);
+      simd::store<Arch>(tz, depth_projected);
+      for (int i = 0; i < W; ++i)
+        if (pixel[i] >= 0) depth_[pixel[i]] = t[i], depth_projected_[pixel[i]] = tz[i];
     }
-    switch (format_) {
-      case ColorFormat::rgba8: {
-        std::uint8_t* c = &color8_[4 * pixel];
-        c[0] = to_unorm8(r), c[1] = to_unorm8(g), c[2] = to_unorm8(b), c[3] = to_unorm8(a);
-        break;
+    if (has(channel_accum)) {
+      const float inv = 1.f / static_cast<float>(frames_ + 1);
+      for (int i = 0; i < W; ++i) {
+        if (pixel[i] < 0) continue;
+        float* acc = &accum_[4 * static_cast<std::size_t>(pixel[i])];
+        for (int c = 0; c < 4; ++c) {
+          acc[c] = frames_ == 0 ? rgba[c][i] : acc[c] + rgba[c][i];
+          rgba[c][i] = acc[c] * inv;
+        }
       }
-      case ColorFormat::srgba: {
-        const auto& table = detail::srgb_table();
-        std::uint8_t* c = &color8_[4 * pixel];
-        c[0] = table[quantize16(r)], c[1] = table[quantize16(g)], c[2] = table[quantize16(b)];
-        c[3] = to_unorm8(a);  // alpha stays linear
-        break;
-      }
-      case ColorFormat::rgba32f: {
-        float* c = &color32_[4 * pixel];
-        c[0] = r, c[1] = g, c[2] = b, c[3] = a;
-        break;
-      }
-      case ColorFormat::none: break;
+    }
+    if (format_ == ColorFormat::rgba32f) {
+      for (int i = 0; i < W; ++i)
+        if (pixel[i] >= 0)
+          for (int c = 0; c < 4; ++c) color32_[4 * static_cast<std::size_t>(pixel[i]) + c] = rgba[c][i];
+      return;
+    }
+    if (format_ == ColorFormat::none) return;
+    // 8-bit formats: quantize all lanes at once, then look up / store per pixel. Alpha
+    // stays linear; colour is sRGB-encoded through a table for SRGBA.
+    const bool srgb = format_ == ColorFormat::srgba;
+    const F scale(srgb ? 65535.f : 255.f);
+    alignas(64) std::int32_t q[4][W];
+    for (int c = 0; c < 4; ++c) {
+      const F v = simd::load<Arch>(rgba[c]);
+      // max/min order maps NaN to 0, and the +0.5 with truncation rounds to nearest.
+      const F clamped = simd::min(simd::max(v, F(0.f)), F(1.f));
+      simd::store<Arch>(q[c], simd::to_int(clamped * (c == 3 ? F(255.f) : scale) + F(0.5f)));
+    }
+    const auto& table = detail::srgb_table();
+    for (int i = 0; i < W; ++i) {
+      if (pixel[i] < 0) continue;
+      std::uint8_t* out = &color8_[4 * static_cast<std::size_t>(pixel[i])];
+      for (int c = 0; c < 3; ++c) out[c] = srgb ? table[static_cast<std::size_t>(q[c][i])] : static_cast<std::uint8_t>(q[c][i]);
+      out[3] = static_cast<std::uint8_t>(q[3][i]);
     }
   }
 
@@ -128,11 +150,6 @@ public:
   }
 
 private:
-  static std::size_t quantize16(float linear) {
-    const float c = linear > 0.f ? (linear < 1.f ? linear : 1.f) : 0.f;  // NaN maps to 0
-    return static_cast<std::size_t>(c * 65535.f + 0.5f);
-  }
-
   int width_, height_;
   ColorFormat format_;
   unsigned channels_;

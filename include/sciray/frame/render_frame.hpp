@@ -49,8 +49,7 @@ void render_frame(const Renderer& renderer, const PreparedCamera& camera, FrameB
   const F lane_dx = lane - lane_dy * F(static_cast<float>(S::width));
 
   tbb::parallel_for(tbb::blocked_range<int>(0, tiles_x * tiles_y), [&](const tbb::blocked_range<int>& range) {
-    alignas(64) float r[simd::width<Arch>], g[simd::width<Arch>], b[simd::width<Arch>], a[simd::width<Arch>],
-        t[simd::width<Arch>], tz[simd::width<Arch>];
+    alignas(64) std::int32_t pixel[simd::width<Arch>];
     for (int tile = range.begin(); tile != range.end(); ++tile) {
       const int tile_x0 = (tile % tiles_x) * tile_size, tile_y0 = (tile / tiles_x) * tile_size;
       for (int y0 = tile_y0; y0 < std::min(tile_y0 + tile_size, height); y0 += S::height) {
@@ -60,17 +59,11 @@ void render_frame(const Renderer& renderer, const PreparedCamera& camera, FrameB
           const M active = (px < F(static_cast<float>(width))) & (py < F(static_cast<float>(height)));
           const auto ray = camera.generate((px + F(offset.x)) * F(inv_width), (py + F(offset.y)) * F(inv_height));
           const PixelSample<Arch> sample = renderer.render(ray, active);
-          simd::store<Arch>(r, sample.color.x);
-          simd::store<Arch>(g, sample.color.y);
-          simd::store<Arch>(b, sample.color.z);
-          simd::store<Arch>(a, sample.alpha);
-          simd::store<Arch>(t, sample.t);
-          simd::store<Arch>(tz, camera.projected_depth(ray, sample.t));
           for (int i = 0; i < simd::width<Arch>; ++i) {
             const int x = x0 + i % S::width, y = y0 + i / S::width;
-            if (x >= width || y >= height) continue;
-            fb.write_sample(static_cast<std::size_t>(y) * width + x, r[i], g[i], b[i], a[i], t[i], tz[i]);
+            pixel[i] = x < width && y < height ? y * width + x : -1;
           }
+          fb.write_packet<Arch>(pixel, sample.color, sample.alpha, sample.t, camera.projected_depth(ray, sample.t));
         }
       }
     }

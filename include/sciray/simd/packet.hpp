@@ -70,6 +70,7 @@ inline float lane(float x, int) { return x; }
 inline std::int32_t lane(std::int32_t x, int) { return x; }
 inline bool lane(bool m, int) { return m; }
 inline float to_float(std::int32_t i) { return static_cast<float>(i); }
+inline std::int32_t to_int(float x) { return static_cast<std::int32_t>(x); }  // truncates, as cvttps
 
 // ---- packet overloads -------------------------------------------------------------
 template <class A>
@@ -124,6 +125,11 @@ bool lane(const xsimd::batch_bool<float, A>& m, int i) {
 template <class A>
 xsimd::batch<float, A> to_float(const xsimd::batch<std::int32_t, A>& i) {
   return xsimd::to_float(i);
+}
+
+template <class A>
+xsimd::batch<std::int32_t, A> to_int(const xsimd::batch<float, A>& x) {
+  return xsimd::to_int(x);
 }
 
 /// Mask as Embree's `valid` array wants it: -1 for active lanes, 0 otherwise.
