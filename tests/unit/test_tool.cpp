@@ -1,0 +1,123 @@
+// The `sciray` command-line tool end to end: real data in, image and JSON report out,
+// and clear errors (non-zero exit, message naming the problem) for bad input.
+#include <catch2/catch.hpp>
+
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "sciray/io/image.hpp"
+
+namespace {
+
+struct Run {
+  int exit_code;
+  std::string output;  // stdout and stderr
+};
+
+Run run_tool(const std::string& arguments) {
+  const std::string command = std::string(SCIRAY_TOOL) + " " + arguments + " 2>&1";
+  FILE* pipe = popen(command.c_str(), "r");
+  REQUIRE(pipe);
+  std::string output;
+  std::array<char, 4096> buffer;
+  while (const std::size_t n = std::fread(buffer.data(), 1, buffer.size(), pipe)) output.append(buffer.data(), n);
+  const int status = pclose(pipe);
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
+}
+
+std::filesystem::path scratch(const std::string& name) {
+  const auto dir = std::filesystem::temp_directory_path() / "sciray_tool_test";
+  std::filesystem::create_directories(dir);
+  return dir / name;
+}
+
+}  // namespace
+
+TEST_CASE("sciray render: a real mesh to PNG with a JSON report", "[tool]") {
+  const auto out = scratch("bunny.png");
+  const Run run = run_tool("render " SCIRAY_DATA_DIR "/meshes/bunny.ply --size 160x120 --frames 3 --threads 2 "
+                           "--isa sse4.2 --json -o " + out.string());
+  INFO(run.output);
+  REQUIRE(run.exit_code == 0);
+  const auto report = nlohmann::json::parse(run.output);
+  CHECK(report["triangles"] == 69451);
+  CHECK(report["vertices"] == 35947);
+  CHECK(report["isa"] == "sse4.2");
+  CHECK(report["simd_width"] == 4);
+  CHECK(report["threads"] == 2);
+  CHECK(report["frame_ms"].size() == 3);
+  CHECK(report["load_ms"].get<double>() > 0);
+  CHECK(report["bvh_build_ms"].get<double>() > 0);
+  // Vertices and indices alone are 35947*12 + 69451*12 bytes; the BVH is extra.
+  CHECK(report["memory_bytes"]["geometry"].get<double>() >= 35947 * 12 + 69451 * 12);
+  CHECK(report["memory_bytes"]["bvh"].get<double>() > 0);
+
+  const auto image = sciray::io::read_png(out);
+  CHECK(image.width == 160);
+  CHECK(image.height == 120);
+  // The framed bunny covers the centre and leaves the corners to the background.
+  CHECK(image.at(80, 60, 0) != image.at(0, 0, 0));
+}
+
+TEST_CASE("sciray render: the built-in scene, a camera file and float output", "[tool]") {
+  const auto camera = scratch("cam.json");
+  std::ofstream(camera) << R"({"position": [0, 3, 0], "look_at": [0, 0, 0], "up": [0, 0, -1], "fovy": 50})";
+  const auto out = scratch("torus.pfm"), depth = scratch("torus_depth.pfm");
+  const Run run = run_tool("render --camera " + camera.string() + " --size 64x64 -o " + out.string() + " --depth " +
+                           depth.string());
+  INFO(run.output);
+  REQUIRE(run.exit_code == 0);
+  const auto color = sciray::io::read_pfm(out), distance = sciray::io::read_pfm(depth);
+  CHECK(color.width == 64);
+  // Looking straight down on the torus (ring radius 1, tube radius 0.35, waves of at most
+  // 0.09): its hole at the centre shows the background (infinite depth); row 6 from the
+  // top looks at the top of the tube, 3 - 0.35 below the camera along the view axis.
+  CHECK(std::isinf(distance.at(32, 32, 0)));
+  const double slope = (2.0 * (63 - 6 + 0.5) / 64 - 1) * std::tan(25.0 * M_PI / 180);
+  CHECK(distance.at(32, 6, 0) == Approx(2.65 * std::sqrt(1 + slope * slope)).margin(0.1));
+}
+
+TEST_CASE("sciray reports bad input clearly", "[tool][errors]") {
+  const auto truncated = scratch("truncated.ply");
+  {
+    std::ifstream in(SCIRAY_DATA_DIR "/meshes/lucy.ply", std::ios::binary);
+    std::string bytes((std::istreambuf_iterator<char>(in)), {});
+    std::ofstream(truncated, std::ios::binary) << bytes.substr(0, bytes.size() / 2);
+  }
+  const auto bad_camera = scratch("bad_cam.json");
+  std::ofstream(bad_camera) << R"({"position": [0, 0], "look_at": [0, 0, -1]})";
+
+  const std::pair<std::string, std::string> cases[] = {
+      {"render " + truncated.string(), "truncated"},
+      {"render /nonexistent.ply", "/nonexistent.ply"},
+      {"render --isa avx9000", "unknown ISA 'avx9000'"},
+      {"render --size 12by7", "--size"},
+      {"render --frames 0", "--frames"},
+      {"render --camera " + bad_camera.string(), "\"position\" must be an array of 3 numbers"},
+      {"render -o image.bmp --size 8x8", "unknown image extension"},
+  };
+  for (const auto& [arguments, expected] : cases) {
+    const Run run = run_tool(arguments);
+    INFO(arguments << "\n" << run.output);
+    CHECK(run.exit_code == 1);
+    CHECK_THAT(run.output, Catch::Contains(expected) && Catch::Contains("sciray: error"));
+  }
+}
+
+TEST_CASE("sciray info and SCIRAY_ISA", "[tool]") {
+  const Run info = run_tool("info");
+  REQUIRE(info.exit_code == 0);
+  CHECK_THAT(info.output, Catch::Contains("supported ISAs:") && Catch::Contains("scalar"));
+  const Run forced = run_tool("info --isa scalar");
+  CHECK_THAT(forced.output, Catch::Contains("chosen: scalar (1 lanes)"));
+  const Run env = run_tool("info 2>&1; SCIRAY_ISA=sse4.2 " SCIRAY_TOOL " info");
+  CHECK_THAT(env.output, Catch::Contains("chosen: sse4.2"));
+  const Run bad_env = run_tool("info; SCIRAY_ISA=mmx " SCIRAY_TOOL " info");
+  CHECK_THAT(bad_env.output, Catch::Contains("SCIRAY_ISA: unknown ISA 'mmx'"));
+}
