@@ -5,6 +5,7 @@
 #include "sciray/math/color.hpp"
 #include "sciray/math/sequence.hpp"
 #include "sciray/math/vec.hpp"
+#include "sciray/simd/arch.hpp"
 
 using namespace sciray;
 
@@ -101,4 +102,16 @@ TEST_CASE("pixel offsets: centre first, then the (2,3) Halton sequence", "[math]
   for (std::uint32_t f = 1; f <= 81; ++f) ++thirds[static_cast<int>(pixel_offset(f).y * 3)];
   for (int c : quarters) CHECK(c == 16);
   for (int c : thirds) CHECK(c == 27);
+}
+
+TEST_CASE("ISA requests resolve to what the CPU runs", "[simd][isa]") {
+  const auto sse_only = [](simd::Isa isa) { return isa == simd::Isa::sse42 || isa == simd::Isa::scalar; };
+  CHECK(simd::resolve_isa("auto", sse_only) == simd::Isa::sse42);
+  CHECK(simd::resolve_isa("scalar", sse_only) == simd::Isa::scalar);
+  CHECK(simd::resolve_isa("sse42", sse_only) == simd::Isa::sse42);
+  CHECK_THROWS_WITH(simd::resolve_isa("avx512", sse_only),
+                    "ISA 'avx512' is not supported by this CPU (best available: sse4.2)");
+  CHECK_THROWS_WITH(simd::resolve_isa("neon", sse_only), Catch::Contains("unknown ISA 'neon'"));
+  CHECK(simd::resolve_isa("auto") == simd::best_supported_isa());
+  for (auto isa : simd::all_isas) CHECK(simd::parse_isa(simd::isa_name(isa)) == isa);
 }

@@ -63,22 +63,23 @@ inline bool cpu_supports(Isa isa) {
   return false;
 }
 
-inline Isa best_supported_isa() {
+/// The widest ISA for which `supports` holds (by default: that this CPU runs).
+inline Isa best_supported_isa(bool (*supports)(Isa) = cpu_supports) {
   for (Isa isa : all_isas)
-    if (cpu_supports(isa)) return isa;
+    if (supports(isa)) return isa;
   return Isa::scalar;
 }
 
 /// Resolves a user's ISA request: "auto" (or empty) picks the best the CPU runs;
 /// naming one the CPU lacks, or an unknown name, is an error that says what exists.
-inline Isa resolve_isa(std::string_view request) {
-  if (request.empty() || request == "auto") return best_supported_isa();
+inline Isa resolve_isa(std::string_view request, bool (*supports)(Isa) = cpu_supports) {
+  if (request.empty() || request == "auto") return best_supported_isa(supports);
   const auto isa = parse_isa(request);
   if (!isa)
     throw Error("unknown ISA '" + std::string(request) + "' (expected auto, avx512, avx2, sse4.2 or scalar)");
-  if (!cpu_supports(*isa))
+  if (!supports(*isa))
     throw Error("ISA '" + std::string(request) + "' is not supported by this CPU (best available: " +
-                std::string(isa_name(best_supported_isa())) + ")");
+                std::string(isa_name(best_supported_isa(supports))) + ")");
   return *isa;
 }
 

@@ -1,0 +1,43 @@
+#!/usr/bin/env python3
+"""Engine throughput as a ratio to the raw-Embree baseline measured in the same run.
+
+    ./build/bench/sciray_bench --benchmark_filter=frame/ --benchmark_repetitions=5 \
+        --benchmark_report_aggregates_only=true --benchmark_out=frame.json
+    python3 bench/ratio.py frame.json
+
+Prints a Markdown table: for each scene, each engine benchmark's median rays/s and its
+ratio to frame/raw_embree/intersect16/<scene>.
+"""
+import json
+import re
+import sys
+
+
+def medians(path):
+    with open(path) as f:
+        report = json.load(f)
+    out = {}
+    for b in report["benchmarks"]:
+        if b.get("aggregate_name", "median") == "median":
+            out[b["run_name"].removesuffix("/process_time")] = b["items_per_second"]
+    return out
+
+
+def main(path):
+    rates = medians(path)
+    print("| benchmark | Mrays/s | ratio to raw Embree |")
+    print("|---|---:|---:|")
+    for name, rate in sorted(rates.items()):
+        match = re.match(r"frame/scivis/[^/]+/(torus_\w+?)_(plain|normals_colors)", name)
+        if not match:
+            continue
+        baseline = rates.get(f"frame/raw_embree/intersect16/{match.group(1)}")
+        ratio = f"{rate / baseline:.2f}" if baseline else "n/a"
+        print(f"| `{name}` | {rate / 1e6:.1f} | {ratio} |")
+    for name, rate in sorted(rates.items()):
+        if name.startswith("frame/raw_embree"):
+            print(f"| `{name}` (baseline) | {rate / 1e6:.1f} | 1.00 |")
+
+
+if __name__ == "__main__":
+    main(sys.argv[1])
