@@ -4,6 +4,11 @@
 // W = 4, 8, 16), the renderer traces and shades it, and the frame buffer accumulates
 // it. Every pixel's sample position depends only on the pixel and the frame index, so
 // the image is the same for any number of threads.
+#include <algorithm>
+#include <concepts>
+#include <cstdint>
+#include <variant>
+
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
@@ -23,10 +28,17 @@ struct Stamp {
   static constexpr int height = simd::width<Arch> / width;
 };
 
-/// Renders one frame of `renderer` (which maps a packet of camera rays to a
-/// PixelSample) into `fb`, accumulating if the frame buffer does. Run it inside a
-/// tbb::task_arena to bound the threads.
+/// What render_frame needs of a renderer: a packet of camera rays (with the lanes that
+/// are inside the image) in, colour, alpha and hit distance out.
+template <class R, class Arch>
+concept PacketRenderer = requires(const R& renderer, const Ray<simd::Float<Arch>>& ray, const simd::Mask<Arch>& active) {
+  { renderer.render(ray, active) } -> std::same_as<PixelSample<Arch>>;
+};
+
+/// Renders one frame of `renderer` into `fb`, accumulating if the frame buffer does.
+/// Run it inside a tbb::task_arena to bound the threads.
 template <class Arch, class Renderer, class PreparedCamera>
+  requires PacketRenderer<Renderer, Arch>
 void render_frame(const Renderer& renderer, const PreparedCamera& camera, FrameBuffer& fb) {
   using F = simd::Float<Arch>;
   using M = simd::Mask<Arch>;
