@@ -44,7 +44,7 @@ void engine_frame(benchmark::State& state, sciray::simd::Isa isa, std::size_t tr
   const auto& kernels = sciray::shim::kernels(isa);
   sciray::FrameBuffer fb(image_size, image_size, state.range(0) ? sciray::ColorFormat::srgba : sciray::ColorFormat::none,
                          state.range(0) ? sciray::channel_color : 0u);
-  for (auto _ : state) kernels.render_scivis(scene.world, sciray::SciVisParams{}, scene.camera, fb);
+  for (auto _ : state) kernels.render_scivis(scene.world, sciray::SciVisParams{}, scene.camera, fb, nullptr);
   state.SetItemsProcessed(state.iterations() * image_size * image_size);
 }
 

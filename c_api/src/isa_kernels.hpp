@@ -11,9 +11,10 @@
 namespace sciray::shim {
 
 template <class Arch>
-void render_scivis(const MeshWorld& world, const SciVisParams& params, const Camera& camera, FrameBuffer& fb) {
+void render_scivis(const MeshWorld& world, const SciVisParams& params, const Camera& camera, FrameBuffer& fb,
+                   FrameControl* control) {
   const SciVis<Arch, MeshWorld> renderer(world, params);
-  render_frame<Arch>(renderer, camera, fb);
+  render_frame<Arch>(renderer, camera, fb, control);
 }
 
 template <class Arch>

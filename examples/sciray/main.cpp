@@ -121,7 +121,7 @@ int render(const RenderOptions& opt) {
     std::vector<double> frame_ms;
     for (int f = 0; f < opt.frames; ++f) {
       start = Clock::now();
-      kernels.render_scivis(world, params, camera, fb);
+      kernels.render_scivis(world, params, camera, fb, nullptr);
       frame_ms.push_back(ms_since(start));
     }
     sciray::io::write_color(fb, opt.output);

@@ -9,6 +9,6 @@ int main() {
   world.commit();
   sciray::FrameBuffer fb(32, 32);
   sciray::shim::kernels(sciray::shim::select_isa())
-      .render_scivis(world, {}, sciray::frame_bounds(world.bounds(), 1.f), fb);
+      .render_scivis(world, {}, sciray::frame_bounds(world.bounds(), 1.f), fb, nullptr);
   return fb.depth()[16 * 32 + 16] < 1e30f ? 0 : 1;
 }

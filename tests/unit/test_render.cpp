@@ -49,7 +49,7 @@ struct BunnyScene {
 FrameBuffer render(const BunnyScene& scene, simd::Isa isa, int size, ColorFormat format = ColorFormat::srgba,
                    int frames = 1) {
   FrameBuffer fb(size, size, format);
-  for (int f = 0; f < frames; ++f) shim::kernels(isa).render_scivis(scene.world, scene.params, scene.camera, fb);
+  for (int f = 0; f < frames; ++f) shim::kernels(isa).render_scivis(scene.world, scene.params, scene.camera, fb, nullptr);
   return fb;
 }
 
@@ -153,10 +153,10 @@ TEST_CASE("accumulation averages jittered frames into anti-aliased coverage", "[
     for (std::size_t p = 0; p < a.size(); ++p) a[p] = fb.color32f()[4 * p + 3];
     return a;
   };
-  kernels.render_scivis(scene.world, scene.params, scene.camera, fb);
+  kernels.render_scivis(scene.world, scene.params, scene.camera, fb, nullptr);
   const std::vector<float> first_colors = fb.color32f();
   const auto one_frame = alphas();
-  for (int f = 1; f < 16; ++f) kernels.render_scivis(scene.world, scene.params, scene.camera, fb);
+  for (int f = 1; f < 16; ++f) kernels.render_scivis(scene.world, scene.params, scene.camera, fb, nullptr);
   CHECK(fb.accumulated_frames() == 16);
   const auto sixteen_frames = alphas();
 
@@ -172,7 +172,7 @@ TEST_CASE("accumulation averages jittered frames into anti-aliased coverage", "[
 
   // After a reset the next frame is frame 0 again.
   fb.reset_accumulation();
-  kernels.render_scivis(scene.world, scene.params, scene.camera, fb);
+  kernels.render_scivis(scene.world, scene.params, scene.camera, fb, nullptr);
   CHECK(fb.color32f() == first_colors);
 }
 
@@ -189,7 +189,7 @@ TEST_CASE("depth channels hold Euclidean and projected distance", "[render][fram
   camera.position = {0.f, 0.f, 5.f};
   camera.fovy = 60.f;
   FrameBuffer fb(33, 33, ColorFormat::rgba8);
-  shim::kernels(shim::select_isa()).render_scivis(world, SciVisParams{}, camera, fb);
+  shim::kernels(shim::select_isa()).render_scivis(world, SciVisParams{}, camera, fb, nullptr);
   const auto prepared = prepare(camera);
   for (int y : {0, 16, 32})
     for (int x : {0, 7, 16, 32}) {

@@ -5,6 +5,7 @@
 // it. Every pixel's sample position depends only on the pixel and the frame index, so
 // the image is the same for any number of threads.
 #include <algorithm>
+#include <atomic>
 #include <concepts>
 #include <cstdint>
 #include <variant>
@@ -20,6 +21,20 @@
 namespace sciray {
 
 inline constexpr int tile_size = 16;
+
+/// Lets another thread follow and stop a frame: `tiles_done` counts finished tiles of
+/// `tile_count`; setting `cancel` makes the remaining tiles return at once. A cancelled
+/// frame leaves the accumulation reset, as some pixels lack its sample.
+struct FrameControl {
+  std::atomic<bool> cancel{false};
+  std::atomic<std::uint32_t> tiles_done{0};
+  std::atomic<std::uint32_t> tile_count{0};
+
+  float progress() const {
+    const std::uint32_t total = tile_count.load();
+    return total == 0 ? 0.f : static_cast<float>(tiles_done.load()) / static_cast<float>(total);
+  }
+};
 
 /// Pixels of a stamp: 4 wide, W/4 high (one pixel for the scalar path).
 template <class Arch>
@@ -39,7 +54,8 @@ concept PacketRenderer = requires(const R& renderer, const Ray<simd::Float<Arch>
 /// Run it inside a tbb::task_arena to bound the threads.
 template <class Arch, class Renderer, class PreparedCamera>
   requires PacketRenderer<Renderer, Arch>
-void render_frame(const Renderer& renderer, const PreparedCamera& camera, FrameBuffer& fb) {
+void render_frame(const Renderer& renderer, const PreparedCamera& camera, FrameBuffer& fb,
+                  FrameControl* control = nullptr) {
   using F = simd::Float<Arch>;
   using M = simd::Mask<Arch>;
   using S = Stamp<Arch>;
@@ -48,6 +64,7 @@ void render_frame(const Renderer& renderer, const PreparedCamera& camera, FrameB
   const int width = fb.width(), height = fb.height();
   const int tiles_x = (width + tile_size - 1) / tile_size;
   const int tiles_y = (height + tile_size - 1) / tile_size;
+  if (control) control->tiles_done = 0, control->tile_count = static_cast<std::uint32_t>(tiles_x * tiles_y);
   const PixelOffset offset = pixel_offset(fb.accumulated_frames());
   const float inv_width = 1.f / static_cast<float>(width), inv_height = 1.f / static_cast<float>(height);
 
@@ -63,6 +80,7 @@ void render_frame(const Renderer& renderer, const PreparedCamera& camera, FrameB
   tbb::parallel_for(tbb::blocked_range<int>(0, tiles_x * tiles_y), [&](const tbb::blocked_range<int>& range) {
     alignas(64) std::int32_t pixel[simd::width<Arch>];
     for (int tile = range.begin(); tile != range.end(); ++tile) {
+      if (control && control->cancel.load(std::memory_order_relaxed)) return;
       const int tile_x0 = (tile % tiles_x) * tile_size, tile_y0 = (tile / tiles_x) * tile_size;
       for (int y0 = tile_y0; y0 < std::min(tile_y0 + tile_size, height); y0 += S::height) {
         for (int x0 = tile_x0; x0 < std::min(tile_x0 + tile_size, width); x0 += S::width) {
@@ -78,15 +96,19 @@ void render_frame(const Renderer& renderer, const PreparedCamera& camera, FrameB
           fb.write_packet<Arch>(pixel, sample.color, sample.alpha, sample.t, camera.projected_depth(ray, sample.t));
         }
       }
+      if (control) control->tiles_done.fetch_add(1, std::memory_order_relaxed);
     }
   });
-  fb.finish_frame();
+  if (control && control->cancel.load())
+    fb.reset_accumulation();
+  else
+    fb.finish_frame();
 }
 
 /// render_frame for a Camera variant: the camera type is resolved once per frame.
 template <class Arch, class Renderer>
-void render_frame(const Renderer& renderer, const Camera& camera, FrameBuffer& fb) {
-  std::visit([&](const auto& c) { render_frame<Arch>(renderer, prepare(c), fb); }, camera);
+void render_frame(const Renderer& renderer, const Camera& camera, FrameBuffer& fb, FrameControl* control = nullptr) {
+  std::visit([&](const auto& c) { render_frame<Arch>(renderer, prepare(c), fb, control); }, camera);
 }
 
 }  // namespace sciray

@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "sciray/accel/embree.hpp"
@@ -34,8 +35,10 @@ public:
   };
 
   /// Takes ownership of loaded data (no copy: the vectors move into the mesh).
-  explicit TriangleMesh(MeshData data) {
-    auto owned = std::make_shared<MeshData>(std::move(data));
+  explicit TriangleMesh(MeshData data) : TriangleMesh(std::make_shared<const MeshData>(std::move(data))) {}
+
+  /// Shares ownership of data with other meshes (several instances of one geometry).
+  explicit TriangleMesh(std::shared_ptr<const MeshData> owned) {
     const MeshData& d = *owned;
     arrays_.vertices_per_face = d.vertices_per_face;
     arrays_.positions = {d.positions.data(), d.vertex_count(), 3 * sizeof(float)};
@@ -69,6 +72,10 @@ public:
     }
     return triangles;
   }
+  /// A material colour (OSPRay's `kd`): multiplies the vertex or face colours, or is the
+  /// colour where the mesh has none.
+  void set_material_color(const Vec3f& color) { material_color_ = color; }
+
   /// Bytes of mesh data sciray owns (0 for shared arrays, which the caller owns).
   std::size_t owned_bytes() const { return owned_bytes_; }
 
@@ -173,9 +180,14 @@ public:
       const I at = prim * I(static_cast<std::int32_t>(a.face_colors.byte_stride / sizeof(float)));
       s.color = {simd::gather<Arch>(colors, at), simd::gather<Arch>(colors, at + I(1)),
                  simd::gather<Arch>(colors, at + I(2))};
+    } else if (material_color_) {
+      s.color = Vec3<F>(*material_color_);
+      return s;
     } else {
       s.has_color = simd::Mask<Arch>(false);
+      return s;
     }
+    if (material_color_) s.color = s.color * Vec3<F>(*material_color_);
     return s;
   }
 
@@ -218,6 +230,7 @@ private:
 
   SharedArrays arrays_;
   std::size_t owned_bytes_ = 0;
+  std::optional<Vec3f> material_color_;
   std::shared_ptr<const void> keep_alive_;
 };
 

@@ -8,6 +8,7 @@
 #include <string_view>
 
 #include "sciray/frame/framebuffer.hpp"
+#include "sciray/frame/render_frame.hpp"
 #include "sciray/geometry/triangle_mesh.hpp"
 #include "sciray/render/camera.hpp"
 #include "sciray/render/scivis.hpp"
@@ -28,8 +29,10 @@ struct TraceResult {
 
 struct IsaKernels {
   simd::Isa isa;
-  /// Renders one frame with the scivis renderer into `fb` (accumulating).
-  void (*render_scivis)(const MeshWorld& world, const SciVisParams& params, const Camera& camera, FrameBuffer& fb);
+  /// Renders one frame with the scivis renderer into `fb` (accumulating); `control`
+  /// (optional) reports progress and cancels.
+  void (*render_scivis)(const MeshWorld& world, const SciVisParams& params, const Camera& camera, FrameBuffer& fb,
+                        FrameControl* control);
   /// Traces arbitrary rays in packets of this ISA's width.
   void (*trace)(RTCScene scene, std::span<const Ray<float>> rays, std::span<TraceResult> results);
 };
