@@ -7,26 +7,35 @@
 #include <limits>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "sciray/io/image.hpp"
 
 namespace sciray::testing {
 
 struct ImageDifference {
-  double rmse = 0;                  ///< over all channel values
-  double psnr_db = 0;               ///< peak 1.0; infinite for identical images
-  double max_abs = 0;               ///< largest channel difference
-  double mean_abs = 0;              ///< mean channel difference
-  double local_mean_error_max = 0;  ///< largest mean per-pixel error over window x window blocks
-  std::size_t differing_pixels = 0; ///< pixels whose largest channel difference exceeds the threshold
+  double rmse = 0;                   ///< over all channel values
+  double psnr_db = 0;                ///< peak 1.0; infinite for identical images
+  double max_abs = 0;                ///< largest channel difference
+  double mean_abs = 0;               ///< mean channel difference
+  double local_mean_error_max = 0;   ///< largest mean per-pixel error over window x window blocks
+  std::size_t differing_pixels = 0;  ///< pixels whose largest channel difference exceeds the threshold
 };
 
-inline ImageDifference compare_images(const io::Image& test, const io::Image& reference, double pixel_threshold = 0.0,
-                                      int window = 8) {
+inline void check_same_size(const io::Image& test, const io::Image& reference, const std::string& context) {
+  io::check_image(test, context + ": test image");
+  io::check_image(reference, context + ": reference image");
   if (test.width != reference.width || test.height != reference.height || test.channels != reference.channels)
-    throw Error("compare_images: image is " + std::to_string(test.width) + "x" + std::to_string(test.height) + "x" +
-                std::to_string(test.channels) + " but the reference is " + std::to_string(reference.width) + "x" +
-                std::to_string(reference.height) + "x" + std::to_string(reference.channels));
+    throw Error(context + ": image is " + std::to_string(test.width) + "x" + std::to_string(test.height) +
+                "x" + std::to_string(test.channels) + " but the reference is " +
+                std::to_string(reference.width) + "x" + std::to_string(reference.height) + "x" +
+                std::to_string(reference.channels));
+}
+
+inline ImageDifference compare_images(const io::Image& test, const io::Image& reference,
+                                      double pixel_threshold = 0.0, int window = 8) {
+  check_same_size(test, reference, "compare_images");
+  if (window < 1) throw Error("compare_images: window is " + std::to_string(window) + ", must be at least 1");
   ImageDifference d;
   const int w = test.width, h = test.height, c = test.channels;
   const int blocks_x = (w + window - 1) / window, blocks_y = (h + window - 1) / window;
@@ -59,7 +68,7 @@ inline ImageDifference compare_images(const io::Image& test, const io::Image& re
 }
 
 inline io::Image difference_image(const io::Image& a, const io::Image& b) {
-  compare_images(a, b);  // checks the sizes
+  check_same_size(a, b, "difference_image");
   io::Image diff = a;
   for (std::size_t i = 0; i < diff.pixels.size(); ++i) diff.pixels[i] = std::abs(a.pixels[i] - b.pixels[i]);
   return diff;
@@ -68,7 +77,8 @@ inline io::Image difference_image(const io::Image& a, const io::Image& b) {
 inline std::string describe(const ImageDifference& d) {
   std::ostringstream s;
   s << "rmse " << d.rmse << ", psnr " << d.psnr_db << " dB, max " << d.max_abs << ", mean " << d.mean_abs
-    << ", worst window mean " << d.local_mean_error_max << ", " << d.differing_pixels << " pixels over threshold";
+    << ", worst window mean " << d.local_mean_error_max << ", " << d.differing_pixels
+    << " pixels over threshold";
   return s.str();
 }
 
