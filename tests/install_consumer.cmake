@@ -12,7 +12,8 @@ function(run)
 endfunction()
 
 run(${CMAKE_COMMAND} --install ${BUILD_DIR} --prefix ${prefix})
-foreach(expected bin/sciray include/sciray/sciray.hpp lib/cmake/sciray/sciray-config.cmake)
+foreach(expected bin/sciray include/sciray/sciray.hpp include/ospray/ospray.h include/ospray/ospray_util.h
+                 lib/cmake/sciray/sciray-config.cmake lib/cmake/ospray/ospray-config.cmake)
   if(NOT EXISTS ${prefix}/${expected})
     message(FATAL_ERROR "the install lacks ${expected}")
   endif()
@@ -22,4 +23,14 @@ run(${CMAKE_COMMAND} -S ${SOURCE_DIR}/tests/consumer -B ${consumer_build} -DCMAK
 run(${CMAKE_COMMAND} --build ${consumer_build})
 run(${consumer_build}/header_only)
 run(${consumer_build}/through_shim)
+
+# An OSPRay program built with only find_package(ospray), run to write its image.
+set(ospray_build ${BUILD_DIR}/install-test/ospray_application)
+run(${CMAKE_COMMAND} -S ${SOURCE_DIR}/tests/ospray_consumer -B ${ospray_build} -DCMAKE_PREFIX_PATH=${prefix}
+    -DTUTORIAL_SOURCE=${SOURCE_DIR}/examples/c/ospray_tutorial.c)
+run(${CMAKE_COMMAND} --build ${ospray_build})
+run(${ospray_build}/ospray_tutorial ${ospray_build}/tutorial.png)
+if(NOT EXISTS ${ospray_build}/tutorial.png)
+  message(FATAL_ERROR "the OSPRay application wrote no image")
+endif()
 message(STATUS "installed package builds and runs")

@@ -15,6 +15,9 @@
 #include "sciray/scene/world.hpp"
 #include "sciray/simd/arch.hpp"
 
+/// Marks what libsciray_ospray exports (it is built with hidden visibility).
+#define SCIRAY_SHIM_API __attribute__((visibility("default")))
+
 namespace sciray::shim {
 
 using MeshWorld = World<TriangleMesh>;
@@ -38,10 +41,10 @@ struct IsaKernels {
 };
 
 /// The entry points of `isa`; throws if this CPU cannot run it.
-const IsaKernels& kernels(simd::Isa isa);
+SCIRAY_SHIM_API const IsaKernels& kernels(simd::Isa isa);
 
 /// The ISA to use: `request` ("auto", "avx512", "avx2", "sse4.2", "scalar"), or when it
 /// is empty or "auto" the SCIRAY_ISA environment variable if set, else the best one.
-simd::Isa select_isa(std::string_view request = {});
+SCIRAY_SHIM_API simd::Isa select_isa(std::string_view request = {});
 
 }  // namespace sciray::shim

@@ -1,0 +1,285 @@
+/* sciray's OSPRay 3 compatible enumerations: the names and values OSPRay documents,
+   so that programs written against OSPRay compile unchanged. Usable from C99 and C++. */
+#pragma once
+
+#include <stdint.h>
+
+#if defined(__cplusplus) && __cplusplus >= 201103L
+#define SCIRAY_OSP_ENUM(underlying) : underlying
+#else
+#define SCIRAY_OSP_ENUM(underlying)
+#endif
+
+/* Log levels for the device's "logLevel" parameter. */
+typedef enum SCIRAY_OSP_ENUM(uint32_t) {
+  OSP_LOG_DEBUG = 1,
+  OSP_LOG_INFO = 2,
+  OSP_LOG_WARNING = 3,
+  OSP_LOG_ERROR = 4,
+  OSP_LOG_NONE = 5
+} OSPLogLevel;
+
+/* Properties ospDeviceGetProperty reports. */
+typedef enum SCIRAY_OSP_ENUM(uint32_t) {
+  OSP_DEVICE_VERSION = 0,
+  OSP_DEVICE_VERSION_MAJOR = 1,
+  OSP_DEVICE_VERSION_MINOR = 2,
+  OSP_DEVICE_VERSION_PATCH = 3,
+  OSP_DEVICE_SO_VERSION = 4
+} OSPDeviceProperty;
+
+/* Types of parameters and data array elements. */
+typedef enum SCIRAY_OSP_ENUM(uint32_t) {
+  OSP_DEVICE = 100,
+  OSP_VOID_PTR = 200,
+  OSP_BOOL = 250,
+
+  OSP_OBJECT = 0x8000000,
+  OSP_DATA = 0x8000000 + 100,
+  OSP_CAMERA,
+  OSP_FRAMEBUFFER,
+  OSP_FUTURE,
+  OSP_GEOMETRIC_MODEL,
+  OSP_GEOMETRY,
+  OSP_GROUP,
+  OSP_IMAGE_OPERATION,
+  OSP_INSTANCE,
+  OSP_LIGHT,
+  OSP_MATERIAL,
+  OSP_RENDERER,
+  OSP_TEXTURE,
+  OSP_TRANSFER_FUNCTION,
+  OSP_VOLUME,
+  OSP_VOLUMETRIC_MODEL,
+  OSP_WORLD,
+
+  OSP_STRING = 1500,
+
+  OSP_CHAR = 2000,
+  OSP_VEC2C,
+  OSP_VEC3C,
+  OSP_VEC4C,
+
+  OSP_UCHAR = 2500,
+  OSP_VEC2UC,
+  OSP_VEC3UC,
+  OSP_VEC4UC,
+  OSP_BYTE = 2500,
+  OSP_RAW = 2500,
+
+  OSP_SHORT = 3000,
+  OSP_VEC2S,
+  OSP_VEC3S,
+  OSP_VEC4S,
+
+  OSP_USHORT = 3500,
+  OSP_VEC2US,
+  OSP_VEC3US,
+  OSP_VEC4US,
+
+  OSP_INT = 4000,
+  OSP_VEC2I,
+  OSP_VEC3I,
+  OSP_VEC4I,
+
+  OSP_UINT = 4500,
+  OSP_VEC2UI,
+  OSP_VEC3UI,
+  OSP_VEC4UI,
+
+  OSP_LONG = 5000,
+  OSP_VEC2L,
+  OSP_VEC3L,
+  OSP_VEC4L,
+
+  OSP_ULONG = 5550,
+  OSP_VEC2UL,
+  OSP_VEC3UL,
+  OSP_VEC4UL,
+
+  OSP_HALF = 5800,
+  OSP_VEC2H,
+  OSP_VEC3H,
+  OSP_VEC4H,
+
+  OSP_FLOAT = 6000,
+  OSP_VEC2F,
+  OSP_VEC3F,
+  OSP_VEC4F,
+
+  OSP_DOUBLE = 7000,
+  OSP_VEC2D,
+  OSP_VEC3D,
+  OSP_VEC4D,
+
+  OSP_BOX1I = 8000,
+  OSP_BOX2I,
+  OSP_BOX3I,
+  OSP_BOX4I,
+
+  OSP_BOX1F = 10000,
+  OSP_BOX2F,
+  OSP_BOX3F,
+  OSP_BOX4F,
+
+  OSP_LINEAR2F = 12000,
+  OSP_LINEAR3F,
+  OSP_AFFINE2F,
+  OSP_AFFINE3F,
+  OSP_QUATF,
+
+  OSP_UNKNOWN = 9999999
+} OSPDataType;
+
+/* Texel formats of 'texture2d' textures. */
+typedef enum SCIRAY_OSP_ENUM(uint32_t) {
+  OSP_TEXTURE_RGBA8,
+  OSP_TEXTURE_SRGBA,
+  OSP_TEXTURE_RGBA32F,
+  OSP_TEXTURE_RGB8,
+  OSP_TEXTURE_SRGB,
+  OSP_TEXTURE_RGB32F,
+  OSP_TEXTURE_R8,
+  OSP_TEXTURE_R32F,
+  OSP_TEXTURE_L8,
+  OSP_TEXTURE_RA8,
+  OSP_TEXTURE_LA8,
+  OSP_TEXTURE_RGBA16,
+  OSP_TEXTURE_RGB16,
+  OSP_TEXTURE_RA16,
+  OSP_TEXTURE_R16,
+  OSP_TEXTURE_FORMAT_INVALID = 255
+} OSPTextureFormat;
+
+typedef enum SCIRAY_OSP_ENUM(uint32_t) {
+  OSP_TEXTURE_FILTER_LINEAR = 0,
+  OSP_TEXTURE_FILTER_NEAREST
+} OSPTextureFilter;
+
+/* Error codes reported through the error callback and ospDeviceGetLastErrorCode. */
+typedef enum SCIRAY_OSP_ENUM(uint32_t) {
+  OSP_NO_ERROR = 0,
+  OSP_UNKNOWN_ERROR = 1,
+  OSP_INVALID_ARGUMENT = 2,
+  OSP_INVALID_OPERATION = 3,
+  OSP_OUT_OF_MEMORY = 4,
+  OSP_UNSUPPORTED_CPU = 5,
+  OSP_VERSION_MISMATCH = 6
+} OSPError;
+
+/* Colour formats of frame buffers. */
+typedef enum SCIRAY_OSP_ENUM(uint32_t) {
+  OSP_FB_NONE,
+  OSP_FB_RGBA8,
+  OSP_FB_SRGBA,
+  OSP_FB_RGBA32F
+} OSPFrameBufferFormat;
+
+/* Frame buffer channels (OR-ed together). */
+typedef enum SCIRAY_OSP_ENUM(uint32_t) {
+  OSP_FB_COLOR = (1 << 0),
+  OSP_FB_DEPTH = (1 << 1),
+  OSP_FB_ACCUM = (1 << 2),
+  OSP_FB_VARIANCE = (1 << 3),
+  OSP_FB_NORMAL = (1 << 4),
+  OSP_FB_ALBEDO = (1 << 5),
+  OSP_FB_ID_PRIMITIVE = (1 << 6),
+  OSP_FB_ID_OBJECT = (1 << 7),
+  OSP_FB_ID_INSTANCE = (1 << 8)
+} OSPFrameBufferChannel;
+
+/* Events ospWait and ospIsReady can wait for. */
+typedef enum SCIRAY_OSP_ENUM(uint32_t) {
+  OSP_NONE_FINISHED = 0,
+  OSP_WORLD_RENDERED = 10,
+  OSP_WORLD_COMMITTED = 20,
+  OSP_FRAME_FINISHED = 30,
+  OSP_TASK_FINISHED = 100000
+} OSPSyncEvent;
+
+typedef enum SCIRAY_OSP_ENUM(uint8_t) {
+  OSP_TETRAHEDRON = 10,
+  OSP_HEXAHEDRON = 12,
+  OSP_WEDGE = 13,
+  OSP_PYRAMID = 14,
+  OSP_UNKNOWN_CELL_TYPE = 255
+} OSPUnstructuredCellType;
+
+typedef enum SCIRAY_OSP_ENUM(uint8_t) {
+  OSP_STEREO_NONE,
+  OSP_STEREO_LEFT,
+  OSP_STEREO_RIGHT,
+  OSP_STEREO_SIDE_BY_SIDE,
+  OSP_STEREO_TOP_BOTTOM,
+  OSP_STEREO_UNKNOWN = 255
+} OSPStereoMode;
+
+typedef enum SCIRAY_OSP_ENUM(uint8_t) {
+  OSP_ROUND,
+  OSP_FLAT,
+  OSP_RIBBON,
+  OSP_DISJOINT,
+  OSP_UNKNOWN_CURVE_TYPE = 255
+} OSPCurveType;
+
+typedef enum SCIRAY_OSP_ENUM(uint8_t) {
+  OSP_LINEAR,
+  OSP_BEZIER,
+  OSP_BSPLINE,
+  OSP_HERMITE,
+  OSP_CATMULL_ROM,
+  OSP_UNKNOWN_CURVE_BASIS = 255
+} OSPCurveBasis;
+
+typedef enum SCIRAY_OSP_ENUM(uint8_t) {
+  OSP_SPHERE,
+  OSP_DISC,
+  OSP_ORIENTED_DISC,
+  OSP_UNKNOWN_SPHERE_TYPE = 255
+} OSPSphereType;
+
+typedef enum SCIRAY_OSP_ENUM(uint8_t) {
+  OSP_VOLUME_FILTER_NEAREST = 0,
+  OSP_VOLUME_FILTER_LINEAR = 100,
+  OSP_VOLUME_FILTER_CUBIC = 200
+} OSPVolumeFilter;
+
+typedef enum SCIRAY_OSP_ENUM(uint8_t) {
+  OSP_SUBDIVISION_NO_BOUNDARY,
+  OSP_SUBDIVISION_SMOOTH_BOUNDARY,
+  OSP_SUBDIVISION_PIN_CORNERS,
+  OSP_SUBDIVISION_PIN_BOUNDARY,
+  OSP_SUBDIVISION_PIN_ALL
+} OSPSubdivisionMode;
+
+typedef enum SCIRAY_OSP_ENUM(uint8_t) {
+  OSP_AMR_CURRENT,
+  OSP_AMR_FINEST,
+  OSP_AMR_OCTANT
+} OSPAMRMethod;
+
+typedef enum SCIRAY_OSP_ENUM(uint8_t) {
+  OSP_PIXELFILTER_POINT,
+  OSP_PIXELFILTER_BOX,
+  OSP_PIXELFILTER_GAUSS,
+  OSP_PIXELFILTER_MITCHELL,
+  OSP_PIXELFILTER_BLACKMAN_HARRIS
+} OSPPixelFilterType;
+
+typedef enum SCIRAY_OSP_ENUM(uint8_t) {
+  OSP_INTENSITY_QUANTITY_RADIANCE,
+  OSP_INTENSITY_QUANTITY_IRRADIANCE,
+  OSP_INTENSITY_QUANTITY_INTENSITY,
+  OSP_INTENSITY_QUANTITY_POWER,
+  OSP_INTENSITY_QUANTITY_SCALE,
+  OSP_INTENSITY_QUANTITY_UNKNOWN
+} OSPIntensityQuantity;
+
+typedef enum SCIRAY_OSP_ENUM(uint8_t) {
+  OSP_SHUTTER_GLOBAL,
+  OSP_SHUTTER_ROLLING_RIGHT,
+  OSP_SHUTTER_ROLLING_LEFT,
+  OSP_SHUTTER_ROLLING_DOWN,
+  OSP_SHUTTER_ROLLING_UP,
+  OSP_SHUTTER_UNKNOWN = 255
+} OSPShutterType;

@@ -1,0 +1,548 @@
+// The OSPRay 3 C API over sciray. Each function translates handles and parameters into
+// the object model (object.hpp and friends) and turns every sciray::Error into a call of
+// the device's error callback: bad input is reported by name and never crashes.
+#include <cstring>
+#include <limits>
+#include <string>
+
+#include "device.hpp"
+#include "frame_objects.hpp"
+#include "scene_objects.hpp"
+
+using namespace sciray::ospray;
+using sciray::Box3f;
+using sciray::Error;
+using sciray::FrameControl;
+using sciray::Ray;
+using sciray::SciVisParams;
+using sciray::Vec3f;
+namespace shim = sciray::shim;
+
+namespace {
+
+Device* current_device = nullptr;
+
+Device& device() {
+  if (!current_device) current_device = new Device();  // OSPRay programs may skip ospInit
+  return *current_device;
+}
+
+/// Runs `body`, reporting any exception through the current device; returns `fallback`
+/// after an error.
+template <class F, class R = std::invoke_result_t<F>>
+R guarded(const char* function, F&& body, R fallback = R()) {
+  try {
+    return body();
+  } catch (const sciray::Error& e) {
+    device().error(OSP_INVALID_ARGUMENT, std::string(function) + ": " + e.what());
+  } catch (const std::bad_alloc&) {
+    device().error(OSP_OUT_OF_MEMORY, std::string(function) + ": out of memory");
+  } catch (const std::exception& e) {
+    device().error(OSP_UNKNOWN_ERROR, std::string(function) + ": " + e.what());
+  }
+  return fallback;
+}
+template <class F>
+void guarded_void(const char* function, F&& body) {
+  guarded(function, [&] {
+    body();
+    return 0;
+  });
+}
+
+/// The live object behind a handle, or an error naming the function's argument.
+Object& live(const void* handle, const char* what) {
+  if (!handle) throw Error(std::string(what) + " is NULL");
+  if (!Registry::instance().alive(handle)) throw Error(std::string(what) + " is not a live object (released or invalid)");
+  return *static_cast<Object*>(const_cast<void*>(handle));
+}
+template <class T>
+T& live_as(const void* handle, OSPDataType kind, const char* what) {
+  Object& o = live(handle, what);
+  if (o.kind() != kind)
+    throw Error(std::string(what) + " must be " + type_name(kind) + " but is " + type_name(o.kind()));
+  return static_cast<T&>(o);
+}
+
+template <class Handle>
+Handle handle_of(Object* o) {
+  return reinterpret_cast<Handle>(o);
+}
+
+std::string type_string(const char* type) {
+  if (!type) throw Error("the type name is NULL");
+  return type;
+}
+
+[[noreturn]] void unknown_type(const char* family, const std::string& type, const char* known) {
+  throw Error(std::string("unknown ") + family + " type '" + type + "' (sciray supports: " + known + ")");
+}
+
+void report_unused(Object& o, const std::vector<std::string>& unused) {
+  for (const auto& id : unused) device().warn(o.name() + ": parameter '" + id + "' is not used (unknown or not supported)");
+}
+
+}  // namespace
+
+extern "C" {
+
+// ---- devices -----------------------------------------------------------------------
+
+OSPError ospInit(int* argc, const char** argv) {
+  return guarded("ospInit", [&] {
+    Device* d = new Device();
+    int kept = argc ? 1 : 0;
+    for (int i = 1; argc && argv && i < *argc; ++i) {
+      const std::string arg = argv[i] ? argv[i] : "";
+      if (arg.rfind("--osp:", 0) != 0) {
+        argv[kept++] = argv[i];
+        continue;
+      }
+      const std::string option = arg.substr(6);
+      const auto eq = option.find('=');
+      const std::string key = option.substr(0, eq), value = eq == std::string::npos ? "" : option.substr(eq + 1);
+      if (key == "num-threads") {
+        const int n = std::stoi(value);
+        d->set_param("numThreads", OSP_INT, &n);
+      } else if (key == "log-level") {
+        d->set_param("logLevel", OSP_STRING, value.c_str());
+      } else if (key == "warn-as-error") {
+        const int on = 1;
+        d->set_param("warnAsError", OSP_INT, &on);
+      } else if (key == "debug") {
+        const int on = 1;
+        d->set_param("debug", OSP_INT, &on);
+      } else if (key == "isa") {
+        d->set_param("isa", OSP_STRING, value.c_str());
+      } else if (key == "device" || key == "load-modules") {
+        if (key == "device" && value != "cpu" && value != "default") {
+          delete d;
+          throw Error("--osp:device=" + value + ": sciray provides the 'cpu' device only");
+        }
+      } else {
+        delete d;
+        throw Error("unknown option " + arg);
+      }
+    }
+    if (argc) {
+      *argc = kept;
+      if (argv) argv[kept] = nullptr;
+    }
+    d->commit();
+    if (current_device && current_device->release()) delete current_device;
+    current_device = d;
+    return OSP_NO_ERROR;
+  }, OSP_INVALID_ARGUMENT);
+}
+
+void ospShutdown() {
+  if (current_device && current_device->release()) delete current_device;
+  current_device = nullptr;
+}
+
+OSPDevice ospNewDevice(const char* type) {
+  return guarded("ospNewDevice", [&] {
+    const std::string t = type ? type : "cpu";
+    if (t != "cpu" && t != "default") unknown_type("device", t, "cpu");
+    return reinterpret_cast<OSPDevice>(new Device());
+  }, OSPDevice{});
+}
+
+void ospSetCurrentDevice(OSPDevice d) {
+  guarded_void("ospSetCurrentDevice", [&] {
+    if (!d) throw Error("device is NULL");
+    auto* dev = reinterpret_cast<Device*>(d);
+    if (dev == current_device) return;
+    dev->retain();
+    if (current_device && current_device->release()) delete current_device;
+    current_device = dev;
+  });
+}
+
+OSPDevice ospGetCurrentDevice() {
+  Device& d = device();
+  d.retain();  // OSPRay returns a new reference
+  return reinterpret_cast<OSPDevice>(&d);
+}
+
+int64_t ospDeviceGetProperty(OSPDevice, OSPDeviceProperty property) {
+  switch (property) {
+    case OSP_DEVICE_VERSION: return OSPRAY_VERSION_MAJOR * 10000 + OSPRAY_VERSION_MINOR * 100 + OSPRAY_VERSION_PATCH;
+    case OSP_DEVICE_VERSION_MAJOR: return OSPRAY_VERSION_MAJOR;
+    case OSP_DEVICE_VERSION_MINOR: return OSPRAY_VERSION_MINOR;
+    case OSP_DEVICE_VERSION_PATCH: return OSPRAY_VERSION_PATCH;
+    case OSP_DEVICE_SO_VERSION: return OSPRAY_VERSION_MAJOR;
+  }
+  device().error(OSP_INVALID_ARGUMENT, "ospDeviceGetProperty: unknown property");
+  return 0;
+}
+
+void ospDeviceSetParam(OSPDevice d, const char* id, OSPDataType type, const void* mem) {
+  guarded_void("ospDeviceSetParam", [&] {
+    if (!d) throw Error("device is NULL");
+    if (!id) throw Error("parameter name is NULL");
+    reinterpret_cast<Device*>(d)->set_param(id, type, mem);
+  });
+}
+
+void ospDeviceRemoveParam(OSPDevice d, const char* id) {
+  guarded_void("ospDeviceRemoveParam", [&] {
+    if (!d || !id) throw Error("device or parameter name is NULL");
+    reinterpret_cast<Device*>(d)->remove_param(id);
+  });
+}
+
+void ospDeviceSetStatusCallback(OSPDevice d, OSPStatusCallback cb, void* user) {
+  if (d) reinterpret_cast<Device*>(d)->set_status_callback(cb, user);
+}
+
+void ospDeviceSetErrorCallback(OSPDevice d, OSPErrorCallback cb, void* user) {
+  if (d) reinterpret_cast<Device*>(d)->set_error_callback(cb, user);
+}
+
+OSPError ospDeviceGetLastErrorCode(OSPDevice d) {
+  return d ? reinterpret_cast<Device*>(d)->last_error_code() : OSP_INVALID_ARGUMENT;
+}
+
+const char* ospDeviceGetLastErrorMsg(OSPDevice d) {
+  return d ? reinterpret_cast<Device*>(d)->last_error_message() : "device is NULL";
+}
+
+void ospDeviceCommit(OSPDevice d) {
+  guarded_void("ospDeviceCommit", [&] {
+    if (!d) throw Error("device is NULL");
+    reinterpret_cast<Device*>(d)->commit();
+  });
+}
+
+void ospDeviceRelease(OSPDevice d) {
+  if (!d) return;
+  auto* dev = reinterpret_cast<Device*>(d);
+  if (dev->release()) {
+    if (dev == current_device) current_device = nullptr;
+    delete dev;
+  }
+}
+
+void ospDeviceRetain(OSPDevice d) {
+  if (d) reinterpret_cast<Device*>(d)->retain();
+}
+
+OSPError ospLoadModule(const char* name) {
+  return guarded("ospLoadModule", [&] {
+    const std::string module = name ? name : "";
+    if (module != "cpu") throw Error("module '" + module + "' does not exist: sciray's types are built in ('cpu')");
+    return OSP_NO_ERROR;
+  }, OSP_INVALID_ARGUMENT);
+}
+
+// ---- data ----------------------------------------------------------------------------
+
+OSPData ospNewSharedData(const void* shared, OSPDataType type, uint64_t n1, int64_t s1, uint64_t n2, int64_t s2,
+                         uint64_t n3, int64_t s3, OSPDeleterCallback deleter, const void* user) {
+  return guarded("ospNewSharedData", [&] {
+    return handle_of<OSPData>(new Data(shared, type, {n1, n2, n3}, {s1, s2, s3}, deleter, user));
+  }, OSPData{});
+}
+
+OSPData ospNewData(OSPDataType type, uint64_t n1, uint64_t n2, uint64_t n3) {
+  return guarded("ospNewData", [&] { return handle_of<OSPData>(new Data(type, {n1, n2, n3})); }, OSPData{});
+}
+
+void ospCopyData(const OSPData source, OSPData destination, uint64_t i1, uint64_t i2, uint64_t i3) {
+  guarded_void("ospCopyData", [&] {
+    auto& from = live_as<Data>(source, OSP_DATA, "source");
+    auto& to = live_as<Data>(destination, OSP_DATA, "destination");
+    to.copy_from(from, {i1, i2, i3});
+  });
+}
+
+// ---- object factories ------------------------------------------------------------------
+
+OSPLight ospNewLight(const char* type) {
+  return guarded("ospNewLight", [&] {
+    const std::string t = type_string(type);
+    if (t != "ambient" && t != "distant") unknown_type("light", t, "ambient, distant");
+    return handle_of<OSPLight>(new Light(t));
+  }, OSPLight{});
+}
+
+OSPCamera ospNewCamera(const char* type) {
+  return guarded("ospNewCamera", [&] {
+    const std::string t = type_string(type);
+    if (t != "perspective" && t != "orthographic") unknown_type("camera", t, "perspective, orthographic");
+    return handle_of<OSPCamera>(new CameraObject(t));
+  }, OSPCamera{});
+}
+
+OSPGeometry ospNewGeometry(const char* type) {
+  return guarded("ospNewGeometry", [&] {
+    const std::string t = type_string(type);
+    if (t != "mesh") unknown_type("geometry", t, "mesh");
+    return handle_of<OSPGeometry>(new Geometry(t));
+  }, OSPGeometry{});
+}
+
+OSPVolume ospNewVolume(const char* type) {
+  return guarded("ospNewVolume", [&]() -> OSPVolume { unknown_type("volume", type_string(type), "none yet"); },
+                 OSPVolume{});
+}
+
+OSPGeometricModel ospNewGeometricModel(OSPGeometry geometry) {
+  return guarded("ospNewGeometricModel", [&] {
+    if (geometry) live_as<Geometry>(geometry, OSP_GEOMETRY, "geometry");
+    auto* model = new GeometricModel();
+    if (geometry) model->set_param("geometry", OSP_GEOMETRY, &geometry);
+    return handle_of<OSPGeometricModel>(model);
+  }, OSPGeometricModel{});
+}
+
+OSPVolumetricModel ospNewVolumetricModel(OSPVolume) {
+  return guarded("ospNewVolumetricModel",
+                 [&]() -> OSPVolumetricModel { throw Error("volumetric models are not supported yet"); },
+                 OSPVolumetricModel{});
+}
+
+OSPMaterial ospNewMaterial(const char* type) {
+  return guarded("ospNewMaterial", [&] {
+    const std::string t = type_string(type);
+    if (t != "obj") unknown_type("material", t, "obj");
+    return handle_of<OSPMaterial>(new Material(t));
+  }, OSPMaterial{});
+}
+
+OSPTransferFunction ospNewTransferFunction(const char* type) {
+  return guarded("ospNewTransferFunction", [&]() -> OSPTransferFunction {
+    unknown_type("transfer function", type_string(type), "none yet");
+  }, OSPTransferFunction{});
+}
+
+OSPTexture ospNewTexture(const char* type) {
+  return guarded("ospNewTexture",
+                 [&]() -> OSPTexture { unknown_type("texture", type_string(type), "none yet"); }, OSPTexture{});
+}
+
+OSPGroup ospNewGroup() {
+  return guarded("ospNewGroup", [] { return handle_of<OSPGroup>(new Group()); }, OSPGroup{});
+}
+
+OSPInstance ospNewInstance(OSPGroup group) {
+  return guarded("ospNewInstance", [&] {
+    if (group) live_as<Group>(group, OSP_GROUP, "group");
+    auto* instance = new Instance();
+    if (group) instance->set_param("group", OSP_GROUP, &group);
+    return handle_of<OSPInstance>(instance);
+  }, OSPInstance{});
+}
+
+OSPWorld ospNewWorld() {
+  return guarded("ospNewWorld", [] { return handle_of<OSPWorld>(new World()); }, OSPWorld{});
+}
+
+OSPBounds ospGetBounds(OSPObject object) {
+  OSPBounds empty{{std::numeric_limits<float>::infinity(), std::numeric_limits<float>::infinity(),
+                   std::numeric_limits<float>::infinity()},
+                  {-std::numeric_limits<float>::infinity(), -std::numeric_limits<float>::infinity(),
+                   -std::numeric_limits<float>::infinity()}};
+  return guarded("ospGetBounds", [&] {
+    Object& o = live(object, "object");
+    if (!o.committed()) throw Error(o.name() + " has not been committed");
+    Box3f box;
+    switch (o.kind()) {
+      case OSP_WORLD: box = static_cast<World&>(o).bounds(); break;
+      case OSP_INSTANCE: box = static_cast<Instance&>(o).bounds(); break;
+      case OSP_GROUP: box = static_cast<Group&>(o).bounds(); break;
+      case OSP_GEOMETRIC_MODEL: box = static_cast<GeometricModel&>(o).geometry()->bounds(); break;
+      case OSP_GEOMETRY: box = static_cast<Geometry&>(o).bounds(); break;
+      default: throw Error(o.name() + " has no bounds");
+    }
+    return OSPBounds{{box.lower.x, box.lower.y, box.lower.z}, {box.upper.x, box.upper.y, box.upper.z}};
+  }, empty);
+}
+
+// ---- parameters and lifetime ----------------------------------------------------------
+
+void ospSetParam(OSPObject object, const char* id, OSPDataType type, const void* mem) {
+  guarded_void("ospSetParam", [&] {
+    Object& o = live(object, "object");
+    if (!id) throw Error(o.name() + ": parameter name is NULL");
+    o.set_param(id, type, mem);
+  });
+}
+
+void ospRemoveParam(OSPObject object, const char* id) {
+  guarded_void("ospRemoveParam", [&] {
+    Object& o = live(object, "object");
+    if (!id) throw Error(o.name() + ": parameter name is NULL");
+    o.remove_param(id);
+  });
+}
+
+void ospCommit(OSPObject object) {
+  guarded_void("ospCommit", [&] {
+    Object& o = live(object, "object");
+    report_unused(o, o.commit());
+  });
+}
+
+void ospRelease(OSPObject object) {
+  if (!object) return;
+  guarded_void("ospRelease", [&] { live(object, "object").release(); });
+}
+
+void ospRetain(OSPObject object) {
+  guarded_void("ospRetain", [&] { live(object, "object").retain(); });
+}
+
+// ---- frame buffers ---------------------------------------------------------------------
+
+OSPFrameBuffer ospNewFrameBuffer(int width, int height, OSPFrameBufferFormat format, uint32_t channels) {
+  return guarded("ospNewFrameBuffer", [&] {
+    constexpr uint32_t supported = OSP_FB_COLOR | OSP_FB_DEPTH | OSP_FB_ACCUM;
+    if (channels & ~supported)
+      device().warn("frame buffer: channels other than OSP_FB_COLOR, OSP_FB_DEPTH and OSP_FB_ACCUM are not "
+                    "supported yet and will not be filled");
+    return handle_of<OSPFrameBuffer>(new FrameBufferObject(width, height, format, channels));
+  }, OSPFrameBuffer{});
+}
+
+OSPImageOperation ospNewImageOperation(const char* type) {
+  return guarded("ospNewImageOperation", [&]() -> OSPImageOperation {
+    unknown_type("image operation", type_string(type), "none yet");
+  }, OSPImageOperation{});
+}
+
+const void* ospMapFrameBuffer(OSPFrameBuffer fb, OSPFrameBufferChannel channel) {
+  return guarded("ospMapFrameBuffer", [&] {
+    return live_as<FrameBufferObject>(fb, OSP_FRAMEBUFFER, "frame buffer").map(channel);
+  }, static_cast<const void*>(nullptr));
+}
+
+void ospUnmapFrameBuffer(const void* mapped, OSPFrameBuffer fb) {
+  guarded_void("ospUnmapFrameBuffer", [&] {
+    live_as<FrameBufferObject>(fb, OSP_FRAMEBUFFER, "frame buffer").unmap(mapped);
+  });
+}
+
+float ospGetVariance(OSPFrameBuffer fb) {
+  return guarded("ospGetVariance", [&] {
+    live_as<FrameBufferObject>(fb, OSP_FRAMEBUFFER, "frame buffer");
+    // No variance channel yet: OSPRay reports infinity when it cannot estimate.
+    return std::numeric_limits<float>::infinity();
+  }, std::numeric_limits<float>::infinity());
+}
+
+void ospResetAccumulation(OSPFrameBuffer fb) {
+  guarded_void("ospResetAccumulation", [&] {
+    auto& frame = live_as<FrameBufferObject>(fb, OSP_FRAMEBUFFER, "frame buffer");
+    std::lock_guard lock(frame.mutex());
+    frame.frame().reset_accumulation();
+  });
+}
+
+// ---- rendering ---------------------------------------------------------------------------
+
+OSPRenderer ospNewRenderer(const char* type) {
+  return guarded("ospNewRenderer", [&] {
+    const std::string t = type_string(type);
+    if (t != "scivis" && t != "ao" && t != "pathtracer") unknown_type("renderer", t, "scivis, ao, pathtracer");
+    if (t != "scivis")
+      device().warn("renderer '" + t + "': renders with scivis shading until the " + t + " renderer lands");
+    return handle_of<OSPRenderer>(new Renderer(t));
+  }, OSPRenderer{});
+}
+
+namespace {
+struct FrameInputs {
+  Ref<FrameBufferObject> fb;
+  Ref<Renderer> renderer;
+  Ref<CameraObject> camera;
+  std::shared_ptr<const BuiltWorld> world;
+};
+
+FrameInputs frame_inputs(OSPFrameBuffer fb, OSPRenderer renderer, OSPCamera camera, OSPWorld world) {
+  FrameInputs in;
+  in.fb = &live_as<FrameBufferObject>(fb, OSP_FRAMEBUFFER, "frame buffer");
+  in.renderer = &live_as<Renderer>(renderer, OSP_RENDERER, "renderer");
+  in.camera = &live_as<CameraObject>(camera, OSP_CAMERA, "camera");
+  auto& w = live_as<World>(world, OSP_WORLD, "world");
+  if (!in.renderer->committed()) throw Error(in.renderer->name() + " has not been committed");
+  if (!in.camera->committed()) throw Error(in.camera->name() + " has not been committed");
+  if (!w.committed()) throw Error("world has not been committed");
+  std::vector<std::string> warnings;
+  in.world = w.built(warnings);
+  for (const auto& message : warnings) device().warn(message);
+  return in;
+}
+}  // namespace
+
+OSPFuture ospRenderFrame(OSPFrameBuffer fb, OSPRenderer renderer, OSPCamera camera, OSPWorld world) {
+  return guarded("ospRenderFrame", [&] {
+    FrameInputs in = frame_inputs(fb, renderer, camera, world);
+    Device& dev = device();
+    auto task = [in, &dev](FrameControl& control) {
+      SciVisParams params = in.world->lights;
+      const auto bg = in.renderer->background();
+      params.background_color = {bg[0], bg[1], bg[2]};
+      params.background_alpha = bg[3];
+      std::lock_guard lock(in.fb->mutex());
+      try {
+        dev.arena().execute([&] {
+          dev.kernels().render_scivis(*in.world->world, params, in.camera->camera(), in.fb->frame(), &control);
+        });
+      } catch (const std::exception& e) {
+        dev.error(OSP_UNKNOWN_ERROR, std::string("ospRenderFrame: ") + e.what());
+      }
+    };
+    return handle_of<OSPFuture>(new Future(std::move(task)));
+  }, OSPFuture{});
+}
+
+int ospIsReady(OSPFuture future, OSPSyncEvent) {
+  return guarded("ospIsReady", [&] { return live_as<Future>(future, OSP_FUTURE, "future").ready() ? 1 : 0; }, 1);
+}
+
+void ospWait(OSPFuture future, OSPSyncEvent) {
+  guarded_void("ospWait", [&] { live_as<Future>(future, OSP_FUTURE, "future").wait(); });
+}
+
+void ospCancel(OSPFuture future) {
+  guarded_void("ospCancel", [&] {
+    auto& f = live_as<Future>(future, OSP_FUTURE, "future");
+    f.cancel();
+    f.wait();  // OSPRay: "may block the calling thread"
+  });
+}
+
+float ospGetProgress(OSPFuture future) {
+  return guarded("ospGetProgress", [&] { return live_as<Future>(future, OSP_FUTURE, "future").progress(); }, 0.f);
+}
+
+float ospGetTaskDuration(OSPFuture future) {
+  return guarded("ospGetTaskDuration",
+                 [&] { return live_as<Future>(future, OSP_FUTURE, "future").duration_seconds(); }, 0.f);
+}
+
+void ospPick(OSPPickResult* result, OSPFrameBuffer fb, OSPRenderer renderer, OSPCamera camera, OSPWorld world,
+             float x, float y) {
+  guarded_void("ospPick", [&] {
+    if (!result) throw Error("result is NULL");
+    *result = {};
+    FrameInputs in = frame_inputs(fb, renderer, camera, world);
+    const Ray<float> ray = std::visit([&](const auto& c) { return sciray::prepare(c).generate(x, y); }, in.camera->camera());
+    shim::TraceResult hit;
+    device().kernels().trace(in.world->world->scene(), std::span(&ray, 1), std::span(&hit, 1));
+    if (hit.geom_id < 0) return;
+    const auto& origin = in.world->origins.at(static_cast<std::size_t>(hit.geom_id));
+    const Vec3f p = ray.org + ray.dir * hit.t;
+    result->hasHit = 1;
+    result->worldPosition[0] = p.x, result->worldPosition[1] = p.y, result->worldPosition[2] = p.z;
+    origin.instance->retain();
+    origin.model->retain();
+    result->instance = handle_of<OSPInstance>(origin.instance.get());
+    result->model = handle_of<OSPGeometricModel>(origin.model.get());
+    result->primID = static_cast<uint32_t>(hit.prim_id);
+  });
+}
+
+}  // extern "C"

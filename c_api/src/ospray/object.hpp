@@ -1,0 +1,174 @@
+#pragma once
+// The OSPRay object model over sciray: reference-counted objects with named, typed
+// parameters that become visible at commit. Every handle the C API returns is an
+// Object*; the registry tells live handles from released or foreign pointers.
+#include <array>
+#include <atomic>
+#include <cstdint>
+#include <cstring>
+#include <map>
+#include <mutex>
+#include <set>
+#include <string>
+#include <unordered_set>
+#include <vector>
+
+#include <ospray/ospray.h>
+
+#include "sciray/error.hpp"
+#include "sciray/math/vec.hpp"
+
+namespace sciray::ospray {
+
+class Object;
+
+/// Bytes one value of `type` occupies (0 for types that are not plain values).
+std::size_t size_of(OSPDataType type);
+/// OSPRay's name of a type, for messages ("vec3f", "OSPGeometry").
+std::string type_name(OSPDataType type);
+inline bool is_object_type(OSPDataType type) { return (type & OSP_OBJECT) == OSP_OBJECT; }
+
+/// All live objects; handles are checked against it on every API call.
+class Registry {
+public:
+  static Registry& instance() {
+    static Registry registry;
+    return registry;
+  }
+  void add(Object* o) {
+    std::lock_guard lock(mutex_);
+    live_.insert(o);
+  }
+  void remove(Object* o) {
+    std::lock_guard lock(mutex_);
+    live_.erase(o);
+  }
+  bool alive(const void* o) const {
+    std::lock_guard lock(mutex_);
+    return live_.count(static_cast<Object*>(const_cast<void*>(o))) != 0;
+  }
+  std::size_t count() const {
+    std::lock_guard lock(mutex_);
+    return live_.size();
+  }
+
+private:
+  mutable std::mutex mutex_;
+  std::unordered_set<Object*> live_;
+};
+
+/// An owning reference (retains on copy, releases on destruction).
+template <class T>
+class Ref {
+public:
+  Ref() = default;
+  Ref(T* p) : p_(p) {  // NOLINT: implicit from raw pointers, as handles arrive
+    if (p_) p_->retain();
+  }
+  Ref(const Ref& o) : Ref(o.p_) {}
+  Ref(Ref&& o) noexcept : p_(std::exchange(o.p_, nullptr)) {}
+  Ref& operator=(Ref o) noexcept {
+    std::swap(p_, o.p_);
+    return *this;
+  }
+  ~Ref() {
+    if (p_) p_->release();
+  }
+  T* get() const { return p_; }
+  T* operator->() const { return p_; }
+  T& operator*() const { return *p_; }
+  explicit operator bool() const { return p_ != nullptr; }
+
+private:
+  T* p_ = nullptr;
+};
+
+/// One parameter value: plain bytes, a string, or an object reference.
+struct Param {
+  OSPDataType type = OSP_UNKNOWN;
+  std::vector<std::byte> bytes;
+  std::string string;
+  Ref<Object> object;
+  mutable bool used = false;
+};
+
+class Object {
+public:
+  Object(OSPDataType kind, std::string subtype) : kind_(kind), subtype_(std::move(subtype)) {
+    Registry::instance().add(this);
+  }
+  virtual ~Object() { Registry::instance().remove(this); }
+  Object(const Object&) = delete;
+  Object& operator=(const Object&) = delete;
+
+  void retain() { refs_.fetch_add(1, std::memory_order_relaxed); }
+  void release() {
+    if (refs_.fetch_sub(1, std::memory_order_acq_rel) == 1) delete this;
+  }
+  int ref_count() const { return refs_.load(); }
+
+  OSPDataType kind() const { return kind_; }
+  const std::string& subtype() const { return subtype_; }
+  /// "mesh geometry", "perspective camera": how messages name this object.
+  std::string name() const;
+
+  void set_param(const std::string& id, OSPDataType type, const void* mem);
+  void remove_param(const std::string& id) { staged_.erase(id); }
+
+  /// Makes the staged parameters visible and rebuilds the object's state from them.
+  /// Returns the names of parameters the object did not read (OSPRay warns about them).
+  std::vector<std::string> commit();
+
+  /// Monotonic stamp of the last successful commit of this object or anything it uses.
+  virtual std::uint64_t version() const { return version_; }
+  bool committed() const { return version_ != 0; }
+
+protected:
+  /// Reads committed parameters; throws Error naming the bad one.
+  virtual void on_commit() {}
+
+  // Committed-parameter access; each marks the parameter as used.
+  const Param* find(const std::string& id) const;
+  bool has(const std::string& id) const { return find(id) != nullptr; }
+  float get_float(const std::string& id, float fallback) const;
+  int get_int(const std::string& id, int fallback) const;
+  bool get_bool(const std::string& id, bool fallback) const;
+  Vec3f get_vec3f(const std::string& id, Vec3f fallback) const;
+  /// A vec4f that OSPRay also accepts as a vec3f (alpha 0) or a float (grey, alpha 0).
+  std::array<float, 4> get_color4(const std::string& id, std::array<float, 4> fallback) const;
+  template <class T>
+  T* get_object(const std::string& id, OSPDataType kind, bool required) const;
+
+  std::uint64_t version_ = 0;
+
+private:
+  static std::uint64_t next_version() {
+    static std::atomic<std::uint64_t> counter{0};
+    return ++counter;
+  }
+
+  OSPDataType kind_;
+  std::string subtype_;
+  std::atomic<int> refs_{1};
+  std::map<std::string, Param> staged_;
+  std::map<std::string, Param> committed_;
+};
+
+}  // namespace sciray::ospray
+
+namespace sciray::ospray {
+
+template <class T>
+T* Object::get_object(const std::string& id, OSPDataType kind, bool required) const {
+  const Param* p = find(id);
+  if (!p || !p->object) {
+    if (required) throw Error(name() + ": required parameter '" + id + "' (" + type_name(kind) + ") is missing");
+    return nullptr;
+  }
+  if (p->object->kind() != kind)
+    throw Error(name() + ": parameter '" + id + "' must be " + type_name(kind) + ", got " +
+                type_name(p->object->kind()));
+  return static_cast<T*>(p->object.get());
+}
+
+}  // namespace sciray::ospray

@@ -1,0 +1,393 @@
+// OSPRay C API conformance: every function of ospray.h and ospray_util.h is called and
+// its result checked, on real data; every bad-input case is reported through the error
+// callback with the object and parameter named, and never crashes.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include <ospray/ospray.h>
+#include <ospray/ospray_util.h>
+
+#include "sciray/io/ply.hpp"
+#include "sciray/shim/engine.hpp"
+
+extern "C" int sciray_header_check(void);
+
+namespace {
+
+struct Messages {
+  std::vector<std::string> errors, status;
+  std::vector<OSPError> codes;
+  bool any_error_containing(const std::string& s) const {
+    for (const auto& e : errors)
+      if (e.find(s) != std::string::npos) return true;
+    return false;
+  }
+};
+
+/// A fresh current device whose callbacks collect messages.
+struct ApiFixture {
+  Messages messages;
+  OSPDevice device;
+
+  ApiFixture() {
+    REQUIRE(ospInit() == OSP_NO_ERROR);
+    device = ospGetCurrentDevice();
+    ospDeviceSetErrorCallback(
+        device,
+        [](void* user, OSPError code, const char* text) {
+          static_cast<Messages*>(user)->errors.emplace_back(text);
+          static_cast<Messages*>(user)->codes.push_back(code);
+        },
+        &messages);
+    ospDeviceSetStatusCallback(
+        device, [](void* user, const char* text) { static_cast<Messages*>(user)->status.emplace_back(text); },
+        &messages);
+  }
+  ~ApiFixture() {
+    ospDeviceRelease(device);
+    ospShutdown();
+  }
+};
+
+/// The bunny as an OSPRay scene: mesh, model with an obj material, group, instance,
+/// world with an ambient and a distant light, a perspective camera, scivis.
+struct BunnyScene {
+  sciray::MeshData mesh = sciray::io::read_ply(SCIRAY_DATA_DIR "/meshes/bunny.ply");
+  OSPGeometry geometry = ospNewGeometry("mesh");
+  OSPMaterial material = ospNewMaterial("obj");
+  OSPGeometricModel model = ospNewGeometricModel(geometry);
+  OSPGroup group = ospNewGroup();
+  OSPInstance instance = ospNewInstance(group);
+  OSPWorld world = ospNewWorld();
+  OSPCamera camera = ospNewCamera("perspective");
+  OSPRenderer renderer = ospNewRenderer("scivis");
+  OSPLight lights[2] = {ospNewLight("ambient"), ospNewLight("distant")};
+
+  BunnyScene() {
+    OSPData position = ospNewSharedData1D(mesh.positions.data(), OSP_VEC3F, mesh.vertex_count());
+    OSPData index = ospNewSharedData1D(mesh.indices.data(), OSP_VEC3UI, mesh.face_count());
+    ospSetObject(geometry, "vertex.position", position);
+    ospSetObject(geometry, "index", index);
+    ospRelease(position);
+    ospRelease(index);
+    ospCommit(geometry);
+    ospSetVec3f(material, "kd", 0.9f, 0.6f, 0.3f);
+    ospCommit(material);
+    ospSetObject(model, "material", material);
+    ospCommit(model);
+    ospSetObjectAsData(group, "geometry", OSP_GEOMETRIC_MODEL, model);
+    ospCommit(group);
+    ospCommit(instance);
+    ospSetObjectAsData(world, "instance", OSP_INSTANCE, instance);
+    ospSetFloat(lights[0], "intensity", 0.3f);
+    ospSetVec3f(lights[1], "direction", 0.5f, -0.7f, -0.6f);
+    for (OSPLight l : lights) ospCommit(l);
+    OSPData light_list = ospNewSharedData1D(lights, OSP_LIGHT, 2);
+    ospSetObject(world, "light", light_list);
+    ospRelease(light_list);
+    ospCommit(world);
+    const OSPBounds b = ospGetBounds(world);
+    const float center[3] = {(b.lower[0] + b.upper[0]) / 2, (b.lower[1] + b.upper[1]) / 2,
+                             (b.lower[2] + b.upper[2]) / 2};
+    ospSetVec3f(camera, "position", center[0], center[1], center[2] + 0.35f);
+    ospSetVec3f(camera, "direction", 0.f, 0.f, -1.f);
+    ospSetFloat(camera, "fovy", 40.f);
+    ospCommit(camera);
+    ospSetVec4f(renderer, "backgroundColor", 0.1f, 0.1f, 0.12f, 1.f);
+    ospCommit(renderer);
+  }
+  ~BunnyScene() {
+    for (OSPObject o : std::initializer_list<OSPObject>{geometry, material, model, group, instance, world, camera,
+                                                       renderer, lights[0], lights[1]})
+      ospRelease(o);
+  }
+};
+
+std::vector<std::uint8_t> render_rgba8(const BunnyScene& s, int w, int h) {
+  OSPFrameBuffer fb = ospNewFrameBuffer(w, h, OSP_FB_SRGBA, OSP_FB_COLOR);
+  ospRenderFrameBlocking(fb, s.renderer, s.camera, s.world);
+  const auto* pixels = static_cast<const std::uint8_t*>(ospMapFrameBuffer(fb, OSP_FB_COLOR));
+  std::vector<std::uint8_t> out(pixels, pixels + 4 * w * h);
+  ospUnmapFrameBuffer(pixels, fb);
+  ospRelease(fb);
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("the C headers declare every function (checked by a C99 translation unit)", "[c_api]") {
+  CHECK(sciray_header_check() == 73);
+}
+
+TEST_CASE("ospInit parses and removes --osp: arguments; the device reports its version", "[c_api][device]") {
+  int argc = 4;
+  const char* argv[] = {"app", "--osp:num-threads=2", "scene.ply", "--osp:log-level=warning", nullptr};
+  REQUIRE(ospInit(&argc, argv) == OSP_NO_ERROR);
+  CHECK(argc == 2);
+  CHECK(std::string(argv[1]) == "scene.ply");
+  OSPDevice device = ospGetCurrentDevice();
+  CHECK(ospDeviceGetProperty(device, OSP_DEVICE_VERSION_MAJOR) == 3);
+  CHECK(ospDeviceGetProperty(device, OSP_DEVICE_VERSION) == 30200);
+  CHECK(ospLoadModule("cpu") == OSP_NO_ERROR);
+  ospDeviceRelease(device);
+
+  int bad_argc = 2;
+  const char* bad_argv[] = {"app", "--osp:frobnicate", nullptr};
+  CHECK(ospInit(&bad_argc, bad_argv) == OSP_INVALID_ARGUMENT);
+  ospShutdown();
+}
+
+TEST_CASE("device parameters, callbacks with user pointers and the last error", "[c_api][device][errors]") {
+  ApiFixture api;
+  OSPDevice d = ospNewDevice("cpu");
+  Messages mine;
+  ospDeviceSetErrorCallback(
+      d, [](void* user, OSPError, const char* text) { static_cast<Messages*>(user)->errors.emplace_back(text); },
+      &mine);
+  ospSetCurrentDevice(d);
+  ospDeviceSetParam(d, "isa", OSP_STRING, "avx9000");
+  ospDeviceCommit(d);
+  CHECK(mine.any_error_containing("unknown ISA 'avx9000'"));
+  CHECK(ospDeviceGetLastErrorCode(d) == OSP_INVALID_ARGUMENT);
+  CHECK_THAT(ospDeviceGetLastErrorMsg(d), Catch::Contains("avx9000"));
+  ospDeviceSetParam(d, "isa", OSP_STRING, "scalar");
+  const int threads = 1;
+  ospDeviceSetParam(d, "numThreads", OSP_INT, &threads);
+  ospDeviceRemoveParam(d, "numThreads");
+  ospDeviceCommit(d);
+  CHECK(mine.errors.size() == 1);
+  CHECK(ospNewGeometry("teapot") == nullptr);
+  CHECK(mine.any_error_containing("unknown geometry type 'teapot'"));
+  ospDeviceRetain(d);
+  ospDeviceRelease(d);
+  ospDeviceRelease(d);
+}
+
+TEST_CASE("a scene built through the C API renders what the engine renders", "[c_api][render]") {
+  ApiFixture api;
+  BunnyScene scene;
+  REQUIRE(api.messages.errors.empty());
+  const auto image = render_rgba8(scene, 64, 48);
+  // The centre sees the orange bunny, the bottom-left corner (first mapped row: OSPRay maps
+  // bottom-up) the background.
+  const auto pixel = [&](int x, int y) { return &image[4 * (y * 64 + x)]; };
+  CHECK(pixel(32, 24)[0] > pixel(32, 24)[2]);
+  CHECK(pixel(0, 0)[0] == pixel(63, 47)[0]);
+  CHECK(pixel(0, 0)[3] == 255);
+
+  // The same frame from the C++ engine directly: identical bytes.
+  sciray::accel::Device device;
+  sciray::shim::MeshWorld world(device);
+  sciray::TriangleMesh mesh(scene.mesh);
+  mesh.set_material_color({0.9f, 0.6f, 0.3f});
+  world.add(std::move(mesh));
+  world.commit();
+  sciray::SciVisParams params;
+  params.background_color = {0.1f, 0.1f, 0.12f};
+  params.background_alpha = 1.f;
+  params.ambient_color = {0.3f, 0.3f, 0.3f};
+  params.ambient_intensity = 1.f;
+  params.light_direction = {0.5f, -0.7f, -0.6f};
+  params.light_intensity = 1.f;
+  const auto b = world.bounds();
+  sciray::PerspectiveCamera camera;
+  camera.position = b.center() + sciray::Vec3f{0.f, 0.f, 0.35f};
+  camera.direction = {0.f, 0.f, -1.f};
+  camera.fovy = 40.f;
+  camera.aspect = 1.f;  // OSPRay's default: the application did not set it
+  sciray::FrameBuffer fb(64, 48, sciray::ColorFormat::srgba, sciray::channel_color);
+  sciray::shim::kernels(sciray::shim::select_isa()).render_scivis(world, params, camera, fb, nullptr);
+  CHECK(fb.color8() == image);
+}
+
+TEST_CASE("commit semantics: parameters take effect at commit; an instance commit is enough", "[c_api][commit]") {
+  ApiFixture api;
+  BunnyScene scene;
+  const auto before = render_rgba8(scene, 32, 32);
+  ospSetVec3f(scene.camera, "position", 5.f, 5.f, 5.f);  // not committed: invisible
+  CHECK(render_rgba8(scene, 32, 32) == before);
+  ospCommit(scene.camera);
+  CHECK(render_rgba8(scene, 32, 32) != before);
+
+  const OSPBounds b0 = ospGetBounds(scene.world);
+  const float shift[12] = {1, 0, 0, 0, 1, 0, 0, 0, 1, 10.f, 0, 0};
+  ospSetParam(scene.instance, "transform", OSP_AFFINE3F, shift);
+  ospCommit(scene.instance);  // no world commit
+  const OSPBounds b1 = ospGetBounds(scene.world);
+  CHECK(b1.lower[0] == Approx(b0.lower[0] + 10.f));
+  OSPFrameBuffer fb = ospNewFrameBuffer(8, 8);
+  OSPPickResult pick;
+  ospSetVec3f(scene.camera, "position", b1.lower[0] + 0.08f, 0.1f, 1.f);
+  ospCommit(scene.camera);
+  ospPick(&pick, fb, scene.renderer, scene.camera, scene.world, 0.5f, 0.5f);
+  CHECK(pick.hasHit == 1);
+  CHECK(pick.worldPosition[0] > 9.f);  // the moved bunny is hit
+  ospRelease(pick.instance);
+  ospRelease(pick.model);
+  ospRelease(fb);
+  CHECK(api.messages.errors.empty());
+}
+
+TEST_CASE("futures: progress, waiting, cancelling, duration", "[c_api][future]") {
+  ApiFixture api;
+  BunnyScene scene;
+  OSPFrameBuffer fb = ospNewFrameBuffer(1024, 1024, OSP_FB_RGBA32F, OSP_FB_COLOR | OSP_FB_ACCUM | OSP_FB_DEPTH);
+  OSPFuture full = ospRenderFrame(fb, scene.renderer, scene.camera, scene.world);
+  ospWait(full, OSP_TASK_FINISHED);
+  CHECK(ospIsReady(full, OSP_TASK_FINISHED) == 1);
+  CHECK(ospGetProgress(full) == 1.f);
+  const float full_seconds = ospGetTaskDuration(full);
+  CHECK(full_seconds > 0.f);
+  ospRelease(full);
+
+  OSPFuture cancelled = ospRenderFrame(fb, scene.renderer, scene.camera, scene.world);
+  ospCancel(cancelled);  // returns once the frame has stopped
+  CHECK(ospIsReady(cancelled) == 1);
+  CHECK(ospGetProgress(cancelled) < 1.f);
+  CHECK(ospGetTaskDuration(cancelled) < full_seconds);
+  ospRelease(cancelled);
+
+  // Depth maps as Euclidean distance; the variance is not estimated yet.
+  const auto* depth = static_cast<const float*>(ospMapFrameBuffer(fb, OSP_FB_DEPTH));
+  CHECK(depth[512 * 1024 + 512] == Approx(0.35).margin(0.1));
+  ospUnmapFrameBuffer(depth, fb);
+  CHECK(std::isinf(ospGetVariance(fb)));
+  ospResetAccumulation(fb);
+  ospRelease(fb);
+  CHECK(api.messages.errors.empty());
+}
+
+TEST_CASE("ospPick reports the instance, model, primitive and position", "[c_api][pick]") {
+  ApiFixture api;
+  BunnyScene scene;
+  OSPFrameBuffer fb = ospNewFrameBuffer(64, 64);
+  OSPPickResult hit;
+  ospPick(&hit, fb, scene.renderer, scene.camera, scene.world, 0.5f, 0.5f);
+  REQUIRE(hit.hasHit == 1);
+  CHECK(hit.instance == scene.instance);
+  CHECK(hit.model == scene.model);
+  CHECK(hit.primID < scene.mesh.face_count());
+  const OSPBounds b = ospGetBounds(scene.world);
+  for (int k = 0; k < 3; ++k) {
+    CHECK(hit.worldPosition[k] >= b.lower[k] - 1e-4f);
+    CHECK(hit.worldPosition[k] <= b.upper[k] + 1e-4f);
+  }
+  ospRelease(hit.instance);
+  ospRelease(hit.model);
+  OSPPickResult miss;
+  ospPick(&miss, fb, scene.renderer, scene.camera, scene.world, 0.01f, 0.99f);
+  CHECK(miss.hasHit == 0);
+  CHECK(miss.instance == nullptr);
+  ospRelease(fb);
+}
+
+TEST_CASE("data arrays: shared with strides, owned, copied, deleted when the last holder lets go", "[c_api][data]") {
+  ApiFixture api;
+  // A 2x3 array of vec3f inside a larger strided buffer: every second float triple.
+  std::vector<float> buffer(6 * 2 * 3, 0.f);
+  OSPData strided = ospNewSharedData2DStride(buffer.data(), OSP_VEC3F, 2, 24, 3, 48);
+  OSPData owned = ospNewData2D(OSP_VEC3F, 4, 4);
+  ospCopyData2D(strided, owned, 1, 1);
+  CHECK(api.messages.errors.empty());
+  ospCopyData2D(strided, owned, 3, 0);  // 3 + 2 > 4
+  CHECK(api.messages.any_error_containing("overflows dimension 1 of size 4"));
+  ospCopyData1D(owned, strided, 0);
+  CHECK(api.messages.any_error_containing("destination made by ospNewData"));
+  OSPData cube = ospNewSharedData3D(buffer.data(), OSP_FLOAT, 2, 3, 6);
+  OSPData copy = ospNewData(OSP_FLOAT, 2, 3, 6);
+  ospCopyData(cube, copy);
+  for (OSPData d : {strided, owned, cube, copy}) ospRelease(d);
+
+  // The deleter runs once the geometry that holds the array is gone too.
+  static int deleted = 0;
+  deleted = 0;
+  const float triangle[9 + 4] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+  OSPData positions = ospNewSharedData(triangle, OSP_VEC3F, 3, 0, 1, 0, 1, 0,
+                                       [](const void*, const void*) { ++deleted; }, nullptr);
+  OSPGeometry g = ospNewGeometry("mesh");
+  ospSetObject(g, "vertex.position", positions);
+  ospRelease(positions);
+  CHECK(deleted == 0);
+  ospRelease(g);
+  CHECK(deleted == 1);
+}
+
+TEST_CASE("bad input is named through the error callback and never crashes", "[c_api][errors]") {
+  ApiFixture api;
+  const auto expect_error = [&](const std::string& fragment) {
+    INFO("expected an error containing: " << fragment);
+    CHECK(api.messages.any_error_containing(fragment));
+    api.messages.errors.clear();
+  };
+  OSPGeometry mesh = ospNewGeometry("mesh");
+  ospSetFloat(mesh, "vertex.position", 1.f);
+  ospCommit(mesh);
+  expect_error("mesh geometry: parameter 'vertex.position' must be an OSPData array");
+
+  const float vertices[3 * 3 + 4] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+  const unsigned bad_index[3] = {0, 1, 7};
+  OSPData good_positions = ospNewSharedData1D(vertices, OSP_VEC3F, 3);
+  ospSetObject(mesh, "vertex.position", good_positions);
+  ospCommit(mesh);
+  expect_error("required parameter 'index'");
+  OSPData index = ospNewSharedData1D(bad_index, OSP_VEC3UI, 1);
+  ospSetObject(mesh, "index", index);
+  ospCommit(mesh);
+  expect_error("'index' of face 0 refers to vertex 7 but 'vertex.position' has 3");
+  const float nan_vertices[3 * 3 + 4] = {0, 0, 0, NAN, 0, 0, 0, 1, 0};
+  OSPData nan_positions = ospNewSharedData1D(nan_vertices, OSP_VEC3F, 3);
+  ospSetObject(mesh, "vertex.position", nan_positions);
+  ospCommit(mesh);
+  expect_error("'vertex.position' 1 is not finite");
+
+  OSPCamera camera = ospNewCamera("perspective");
+  ospSetVec3f(camera, "up", 0.f, 0.f, 1.f);  // parallel to the default direction
+  ospCommit(camera);
+  expect_error("'up' is parallel to 'direction'");
+  ospSetInt(camera, "fovy", 200);
+  ospCommit(camera);
+  expect_error("'fovy'");
+  ospSetString(camera, "position", "here");
+  ospCommit(camera);
+  expect_error("parameter 'position' must be a vec3f, got string");
+
+  OSPGeometricModel model = ospNewGeometricModel(nullptr);
+  ospCommit(model);
+  expect_error("geometric model: required parameter 'geometry' (OSPGeometry) is missing");
+  ospSetParam(model, "geometry", OSP_GEOMETRY, &camera);
+  expect_error("parameter 'geometry' was set as OSPGeometry but the object is OSPCamera");
+
+  OSPRenderer renderer = ospNewRenderer("scivis");
+  ospSetInt(renderer, "frobnication", 3);
+  ospCommit(renderer);
+  bool warned = false;
+  for (const auto& s : api.messages.status) warned |= s.find("'frobnication' is not used") != std::string::npos;
+  CHECK(warned);
+
+  ospCommit(nullptr);
+  expect_error("object is NULL");
+  OSPWorld world = ospNewWorld();
+  ospRelease(world);
+  ospCommit(world);  // use after release
+  expect_error("not a live object");
+  OSPFrameBuffer fb = ospNewFrameBuffer(4, 4, OSP_FB_RGBA8, OSP_FB_COLOR);
+  CHECK(ospMapFrameBuffer(fb, OSP_FB_DEPTH) == nullptr);
+  expect_error("cannot map OSP_FB_DEPTH");
+  ospUnmapFrameBuffer(vertices, fb);
+  expect_error("did not map");
+  CHECK(ospRenderFrame(fb, renderer, camera, reinterpret_cast<OSPWorld>(camera)) == nullptr);
+  expect_error("world must be OSPWorld but is OSPCamera");
+  CHECK(ospNewFrameBuffer(0, 4) == nullptr);
+  expect_error("size 0x4");
+  CHECK(ospNewSharedData1D(nullptr, OSP_FLOAT, 3) == nullptr);
+  expect_error("shared memory pointer is NULL");
+  ospRelease(nullptr);  // a no-op, as in OSPRay
+  CHECK(api.messages.errors.empty());
+  for (OSPObject o :
+       std::initializer_list<OSPObject>{mesh, index, good_positions, nan_positions, camera, model, renderer, fb})
+    ospRelease(o);
+}
