@@ -204,6 +204,30 @@ TEST_CASE("a scene built through the C API renders what the engine renders", "[c
   CHECK(fb.color8() == image);
 }
 
+TEST_CASE("OSPRay's promotions: a float or vec3f backgroundColor gets alpha 0", "[c_api][params]") {
+  ApiFixture api;
+  BunnyScene scene;
+  OSPFrameBuffer fb = ospNewFrameBuffer(8, 8, OSP_FB_RGBA32F, OSP_FB_COLOR);
+  const auto corner = [&] {
+    ospRenderFrameBlocking(fb, scene.renderer, scene.camera, scene.world);
+    const auto* p = static_cast<const float*>(ospMapFrameBuffer(fb, OSP_FB_COLOR));
+    std::vector<float> rgba(p, p + 4);
+    ospUnmapFrameBuffer(p, fb);
+    return rgba;
+  };
+  ospSetFloat(scene.renderer, "backgroundColor", 0.5f);
+  ospCommit(scene.renderer);
+  CHECK(corner() == std::vector<float>{0.5f, 0.5f, 0.5f, 0.f});
+  ospSetVec3f(scene.renderer, "backgroundColor", 0.1f, 0.2f, 0.3f);
+  ospCommit(scene.renderer);
+  CHECK(corner() == std::vector<float>{0.1f, 0.2f, 0.3f, 0.f});
+  ospRemoveParam(scene.renderer, "backgroundColor");
+  ospCommit(scene.renderer);
+  CHECK(corner() == std::vector<float>{0.f, 0.f, 0.f, 0.f});
+  ospRelease(fb);
+  CHECK(api.messages.errors.empty());
+}
+
 TEST_CASE("commit semantics: parameters take effect at commit; an instance commit is enough", "[c_api][commit]") {
   ApiFixture api;
   BunnyScene scene;
@@ -251,13 +275,27 @@ TEST_CASE("futures: progress, waiting, cancelling, duration", "[c_api][future]")
   CHECK(ospGetTaskDuration(cancelled) < full_seconds);
   ospRelease(cancelled);
 
-  // Depth maps as Euclidean distance; the variance is not estimated yet.
+  // Depth maps as Euclidean distance; no variance channel, no estimate.
   const auto* depth = static_cast<const float*>(ospMapFrameBuffer(fb, OSP_FB_DEPTH));
   CHECK(depth[512 * 1024 + 512] == Approx(0.35).margin(0.1));
   ospUnmapFrameBuffer(depth, fb);
   CHECK(std::isinf(ospGetVariance(fb)));
   ospResetAccumulation(fb);
   ospRelease(fb);
+
+  // With a variance channel the estimate appears after two frames and shrinks as the
+  // jittered frames average out the silhouettes.
+  OSPFrameBuffer accumulating = ospNewFrameBuffer(96, 96, OSP_FB_SRGBA, OSP_FB_COLOR | OSP_FB_ACCUM | OSP_FB_VARIANCE);
+  CHECK(std::isinf(ospRenderFrameBlocking(accumulating, scene.renderer, scene.camera, scene.world)));
+  const float after_two = ospRenderFrameBlocking(accumulating, scene.renderer, scene.camera, scene.world);
+  CHECK(std::isfinite(after_two));
+  CHECK(after_two > 0.f);
+  std::vector<float> estimates{after_two};
+  for (int f = 2; f < 64; ++f) estimates.push_back(ospRenderFrameBlocking(accumulating, scene.renderer, scene.camera, scene.world));
+  CHECK(estimates.back() < 0.5f * estimates[2]);
+  ospResetAccumulation(accumulating);
+  CHECK(std::isinf(ospGetVariance(accumulating)));
+  ospRelease(accumulating);
   CHECK(api.messages.errors.empty());
 }
 

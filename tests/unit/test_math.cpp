@@ -87,21 +87,31 @@ TEST_CASE("sRGB transfer function", "[math][color]") {
   CHECK(to_unorm8(-1.f) == 0);
 }
 
-TEST_CASE("pixel offsets: centre first, then the (2,3) Halton sequence", "[math][sampling]") {
+TEST_CASE("pixel offsets: centre first, then the R2 sequence", "[math][sampling]") {
   CHECK(pixel_offset(0).x == 0.5f);
   CHECK(pixel_offset(0).y == 0.5f);
-  CHECK(pixel_offset(1).x == 0.5f);
-  CHECK(pixel_offset(1).y == Approx(1.f / 3.f));
-  CHECK(pixel_offset(2).x == 0.25f);
-  CHECK(pixel_offset(2).y == Approx(2.f / 3.f));
-  CHECK(pixel_offset(3).x == 0.75f);
-  CHECK(pixel_offset(3).y == Approx(1.f / 9.f));
-  // Stratification: 64 frames put 16 x-offsets in each quarter, 81 frames 27 y-offsets in each third.
-  int quarters[4] = {}, thirds[3] = {};
-  for (std::uint32_t f = 1; f <= 64; ++f) ++quarters[static_cast<int>(pixel_offset(f).x * 4)];
-  for (std::uint32_t f = 1; f <= 81; ++f) ++thirds[static_cast<int>(pixel_offset(f).y * 3)];
-  for (int c : quarters) CHECK(c == 16);
-  for (int c : thirds) CHECK(c == 27);
+  CHECK(pixel_offset(1).x == Approx(0.2548777f));
+  CHECK(pixel_offset(1).y == Approx(0.0698403f));
+  // Equidistribution, and the same for even and odd frames alone (the variance estimate
+  // compares them): each quarter of each axis gets 1/4 of 1024 frames, within 2 frames.
+  int all[2][4] = {}, odd[2][4] = {};
+  for (std::uint32_t f = 0; f < 1024; ++f) {
+    const auto o = pixel_offset(f);
+    REQUIRE(o.x >= 0.f);
+    REQUIRE(o.x < 1.f);
+    REQUIRE(o.y >= 0.f);
+    REQUIRE(o.y < 1.f);
+    for (int axis = 0; axis < 2; ++axis) {
+      const int quarter = static_cast<int>((axis ? o.y : o.x) * 4);
+      ++all[axis][quarter];
+      if (f % 2) ++odd[axis][quarter];
+    }
+  }
+  for (int axis = 0; axis < 2; ++axis)
+    for (int q = 0; q < 4; ++q) {
+      CHECK(std::abs(all[axis][q] - 256) <= 2);
+      CHECK(std::abs(odd[axis][q] - 128) <= 2);
+    }
 }
 
 TEST_CASE("ISA requests resolve to what the CPU runs", "[simd][isa]") {

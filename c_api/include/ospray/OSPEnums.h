@@ -156,6 +156,12 @@ typedef enum SCIRAY_OSP_ENUM(uint32_t) {
   OSP_TEXTURE_FILTER_NEAREST
 } OSPTextureFilter;
 
+typedef enum SCIRAY_OSP_ENUM(uint32_t) {
+  OSP_TEXTURE_WRAP_REPEAT = 0,
+  OSP_TEXTURE_WRAP_MIRRORED_REPEAT,
+  OSP_TEXTURE_WRAP_CLAMP_TO_EDGE
+} OSPTextureWrapMode;
+
 /* Error codes reported through the error callback and ospDeviceGetLastErrorCode. */
 typedef enum SCIRAY_OSP_ENUM(uint32_t) {
   OSP_NO_ERROR = 0,

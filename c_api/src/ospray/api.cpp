@@ -398,10 +398,12 @@ void ospRetain(OSPObject object) {
 
 OSPFrameBuffer ospNewFrameBuffer(int width, int height, OSPFrameBufferFormat format, uint32_t channels) {
   return guarded("ospNewFrameBuffer", [&] {
-    constexpr uint32_t supported = OSP_FB_COLOR | OSP_FB_DEPTH | OSP_FB_ACCUM;
+    constexpr uint32_t supported = OSP_FB_COLOR | OSP_FB_DEPTH | OSP_FB_ACCUM | OSP_FB_VARIANCE;
     if (channels & ~supported)
-      device().warn("frame buffer: channels other than OSP_FB_COLOR, OSP_FB_DEPTH and OSP_FB_ACCUM are not "
-                    "supported yet and will not be filled");
+      device().warn("frame buffer: channels other than OSP_FB_COLOR, OSP_FB_DEPTH, OSP_FB_ACCUM and OSP_FB_VARIANCE "
+                    "are not supported yet and will not be filled");
+    if ((channels & OSP_FB_VARIANCE) && !(channels & OSP_FB_ACCUM))
+      device().warn("frame buffer: OSP_FB_VARIANCE needs OSP_FB_ACCUM; no variance will be estimated");
     return handle_of<OSPFrameBuffer>(new FrameBufferObject(width, height, format, channels));
   }, OSPFrameBuffer{});
 }
@@ -426,9 +428,9 @@ void ospUnmapFrameBuffer(const void* mapped, OSPFrameBuffer fb) {
 
 float ospGetVariance(OSPFrameBuffer fb) {
   return guarded("ospGetVariance", [&] {
-    live_as<FrameBufferObject>(fb, OSP_FRAMEBUFFER, "frame buffer");
-    // No variance channel yet: OSPRay reports infinity when it cannot estimate.
-    return std::numeric_limits<float>::infinity();
+    auto& frame = live_as<FrameBufferObject>(fb, OSP_FRAMEBUFFER, "frame buffer");
+    std::lock_guard lock(frame.mutex());
+    return frame.frame().variance();
   }, std::numeric_limits<float>::infinity());
 }
 

@@ -16,6 +16,7 @@ unsigned engine_channels(std::uint32_t channels) {
   unsigned c = channel_color;
   if (channels & OSP_FB_DEPTH) c |= channel_depth;
   if (channels & OSP_FB_ACCUM) c |= channel_accum;
+  if (channels & OSP_FB_VARIANCE) c |= channel_variance;
   return c;
 }
 }  // namespace

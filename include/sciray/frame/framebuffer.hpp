@@ -24,6 +24,7 @@ enum Channel : unsigned {
   channel_color = 1u << 0,
   channel_depth = 1u << 1,  ///< Euclidean distance from the camera and projected depth
   channel_accum = 1u << 2,  ///< average successive frames
+  channel_variance = 1u << 3,  ///< estimate the error of the average (needs accum)
 };
 
 namespace detail {
@@ -52,6 +53,8 @@ public:
     if (format == ColorFormat::none) channels_ &= ~unsigned(channel_color);
     const std::size_t n = pixel_count();
     if (channels_ & channel_accum) accum_.assign(4 * n, 0.f);
+    if (!(channels_ & channel_accum)) channels_ &= ~unsigned(channel_variance);
+    if (channels_ & channel_variance) odd_luminance_.assign(n, 0.f);
     if (format == ColorFormat::rgba8 || format == ColorFormat::srgba) color8_.assign(4 * n, 0);
     if (format == ColorFormat::rgba32f) color32_.assign(4 * n, 0.f);
     if (channels_ & channel_depth) {
@@ -97,8 +100,14 @@ public:
     }
     if (has(channel_accum)) {
       const float inv = 1.f / static_cast<float>(frames_ + 1);
+      const bool odd_frame = frames_ % 2 == 1;
       for (int i = 0; i < W; ++i) {
         if (pixel[i] < 0) continue;
+        if (!odd_luminance_.empty()) {
+          float& odd = odd_luminance_[static_cast<std::size_t>(pixel[i])];
+          if (frames_ == 0) odd = 0.f;
+          if (odd_frame) odd += luminance(rgba[0][i], rgba[1][i], rgba[2][i]);
+        }
         float* acc = &accum_[4 * static_cast<std::size_t>(pixel[i])];
         for (int c = 0; c < 4; ++c) {
           acc[c] = frames_ == 0 ? rgba[c][i] : acc[c] + rgba[c][i];
@@ -133,6 +142,22 @@ public:
     }
   }
 
+  /// An estimate of the error left in the accumulated colour: the mean absolute luminance
+  /// difference between the average of all frames and the average of the odd frames,
+  /// which for independent frames shrinks as 1/sqrt(frames). Infinite before two frames
+  /// or without a variance channel (as OSPRay reports).
+  float variance() const {
+    if (odd_luminance_.empty() || frames_ < 2) return std::numeric_limits<float>::infinity();
+    const float odd_frames = static_cast<float>(frames_ / 2);
+    double sum = 0.0;
+    for (std::size_t p = 0; p < odd_luminance_.size(); ++p) {
+      const float* acc = &accum_[4 * p];
+      const float mean = luminance(acc[0], acc[1], acc[2]) / static_cast<float>(frames_);
+      sum += std::abs(mean - odd_luminance_[p] / odd_frames);
+    }
+    return static_cast<float>(sum / static_cast<double>(odd_luminance_.size()));
+  }
+
   /// RGBA8 or SRGBA bytes, bottom row first. Empty for other formats.
   const std::vector<std::uint8_t>& color8() const { return color8_; }
   /// RGBA32F values, bottom row first. Empty for other formats.
@@ -146,7 +171,8 @@ public:
 
   /// Bytes of all channels.
   std::size_t memory_bytes() const {
-    return color8_.size() + sizeof(float) * (color32_.size() + depth_.size() + depth_projected_.size() + accum_.size());
+    return color8_.size() + sizeof(float) * (color32_.size() + depth_.size() + depth_projected_.size() +
+                                             accum_.size() + odd_luminance_.size());
   }
 
 private:
@@ -154,7 +180,10 @@ private:
   ColorFormat format_;
   unsigned channels_;
   std::uint32_t frames_ = 0;
+  static float luminance(float r, float g, float b) { return 0.2126f * r + 0.7152f * g + 0.0722f * b; }
+
   std::vector<float> accum_;
+  std::vector<float> odd_luminance_;  // sum over odd frames, for the variance estimate
   std::vector<std::uint8_t> color8_;
   std::vector<float> color32_;
   std::vector<float> depth_;

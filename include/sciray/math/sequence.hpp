@@ -5,27 +5,19 @@
 
 namespace sciray {
 
-/// Radical inverse of `index` in `base` (the van der Corput / Halton sequence).
-inline float radical_inverse(std::uint32_t index, std::uint32_t base) {
-  const float inv_base = 1.f / static_cast<float>(base);
-  float inv_base_n = 1.f, result = 0.f;
-  while (index > 0) {
-    inv_base_n *= inv_base;
-    result += static_cast<float>(index % base) * inv_base_n;
-    index /= base;
-  }
-  return result;
-}
-
-/// Sub-pixel offset in [0,1)^2 for accumulation frame `frame`: frame 0 is the pixel
-/// centre, later frames follow the (2,3) Halton sequence so that averaging frames
-/// converges to the box-filtered pixel.
+/// Sub-pixel offset in [0,1)^2 for accumulation frame `frame`: the R2 sequence
+/// (Roberts 2018, additive recurrence on the plastic number) started at the pixel
+/// centre. Frame 0 is the centre; averaging frames converges to the box-filtered pixel.
+/// Unlike Halton's base-2 axis, its even and odd frames are equally distributed, which
+/// the frame buffer's variance estimate relies on.
 struct PixelOffset {
   float x, y;
 };
 inline PixelOffset pixel_offset(std::uint32_t frame) {
-  if (frame == 0) return {0.5f, 0.5f};
-  return {radical_inverse(frame, 2), radical_inverse(frame, 3)};
+  constexpr double a1 = 0.7548776662466927;  // 1 / plastic number
+  constexpr double a2 = 0.5698402909980532;  // 1 / plastic number^2
+  const auto wrap = [](double v) { return static_cast<float>(v - static_cast<double>(static_cast<std::uint64_t>(v))); };
+  return {wrap(0.5 + a1 * frame), wrap(0.5 + a2 * frame)};
 }
 
 }  // namespace sciray
