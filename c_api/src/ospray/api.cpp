@@ -1,7 +1,9 @@
 // The OSPRay 3 C API over sciray. Each function translates handles and parameters into
 // the object model (object.hpp and friends) and turns every sciray::Error into a call of
 // the device's error callback: bad input is reported by name and never crashes.
+#include <charconv>
 #include <cstring>
+#include <memory>
 #include <limits>
 #include <string>
 
@@ -90,7 +92,7 @@ extern "C" {
 
 OSPError ospInit(int* argc, const char** argv) {
   return guarded("ospInit", [&] {
-    Device* d = new Device();
+    auto d = std::make_unique<Device>();
     int kept = argc ? 1 : 0;
     for (int i = 1; argc && argv && i < *argc; ++i) {
       const std::string arg = argv[i] ? argv[i] : "";
@@ -102,7 +104,9 @@ OSPError ospInit(int* argc, const char** argv) {
       const auto eq = option.find('=');
       const std::string key = option.substr(0, eq), value = eq == std::string::npos ? "" : option.substr(eq + 1);
       if (key == "num-threads") {
-        const int n = std::stoi(value);
+        int n = 0;
+        if (std::from_chars(value.data(), value.data() + value.size(), n).ec != std::errc{} || n < 0)
+          throw Error("--osp:num-threads expects a count, got '" + value + "'");
         d->set_param("numThreads", OSP_INT, &n);
       } else if (key == "log-level") {
         d->set_param("logLevel", OSP_STRING, value.c_str());
@@ -115,12 +119,9 @@ OSPError ospInit(int* argc, const char** argv) {
       } else if (key == "isa") {
         d->set_param("isa", OSP_STRING, value.c_str());
       } else if (key == "device" || key == "load-modules") {
-        if (key == "device" && value != "cpu" && value != "default") {
-          delete d;
+        if (key == "device" && value != "cpu" && value != "default")
           throw Error("--osp:device=" + value + ": sciray provides the 'cpu' device only");
-        }
       } else {
-        delete d;
         throw Error("unknown option " + arg);
       }
     }
@@ -130,7 +131,7 @@ OSPError ospInit(int* argc, const char** argv) {
     }
     d->commit();
     if (current_device && current_device->release()) delete current_device;
-    current_device = d;
+    current_device = d.release();
     return OSP_NO_ERROR;
   }, OSP_INVALID_ARGUMENT);
 }
@@ -482,6 +483,7 @@ OSPFuture ospRenderFrame(OSPFrameBuffer fb, OSPRenderer renderer, OSPCamera came
   return guarded("ospRenderFrame", [&] {
     FrameInputs in = frame_inputs(fb, renderer, camera, world);
     Device& dev = device();
+    dev.retain();  // the frame may outlive ospShutdown
     auto task = [in, &dev](FrameControl& control) {
       SciVisParams params = in.world->lights;
       const auto bg = in.renderer->background();
@@ -495,6 +497,7 @@ OSPFuture ospRenderFrame(OSPFrameBuffer fb, OSPRenderer renderer, OSPCamera came
       } catch (const std::exception& e) {
         dev.error(OSP_UNKNOWN_ERROR, std::string("ospRenderFrame: ") + e.what());
       }
+      if (dev.release()) delete &dev;
     };
     return handle_of<OSPFuture>(new Future(std::move(task)));
   }, OSPFuture{});

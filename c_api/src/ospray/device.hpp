@@ -2,6 +2,7 @@
 // OSPDevice: parameters (numThreads, logLevel, warnAsError, isa), the error and status
 // callbacks with their user pointers, the last error, and the thread arena and ISA
 // kernels every frame of this device runs with.
+#include <atomic>
 #include <memory>
 #include <string>
 
@@ -47,7 +48,7 @@ private:
     std::string isa;
   };
 
-  int refs_ = 1;
+  std::atomic<int> refs_{1};
   Params staged_, committed_;
   OSPErrorCallback error_cb_ = nullptr;
   void* error_user_ = nullptr;
