@@ -92,7 +92,18 @@ int render(const RenderOptions& opt) {
   tbb::task_arena arena(threads);
   arena.execute([&] {
     auto start = Clock::now();
-    sciray::MeshData data = opt.mesh.empty() ? sciray::testing::wavy_torus(400'000) : sciray::io::read_ply(opt.mesh);
+    // "builtin:NAME" is a standard scene (testing/scenes.hpp); no mesh, the default one.
+    std::optional<sciray::PerspectiveCamera> scene_camera;
+    sciray::MeshData data;
+    if (opt.mesh.empty()) {
+      data = sciray::testing::wavy_torus(400'000);
+    } else if (opt.mesh.rfind("builtin:", 0) == 0) {
+      auto scene = sciray::testing::standard_scene(opt.mesh.substr(8), SCIRAY_DATA_DIR);
+      data = std::move(scene.mesh);
+      scene_camera = scene.camera;
+    } else {
+      data = sciray::io::read_ply(opt.mesh);
+    }
     const double load_ms = ms_since(start);
 
     sciray::accel::Device device;
@@ -105,8 +116,10 @@ int render(const RenderOptions& opt) {
     const double build_ms = ms_since(start);
 
     const float aspect = static_cast<float>(width) / static_cast<float>(height);
-    const sciray::Camera camera = opt.camera.empty() ? sciray::frame_bounds(world.bounds(), aspect)
-                                                     : read_camera(opt.camera, aspect);
+    if (scene_camera) scene_camera->aspect = aspect;
+    const sciray::Camera camera = !opt.camera.empty() ? read_camera(opt.camera, aspect)
+                                  : scene_camera      ? *scene_camera
+                                                      : sciray::frame_bounds(world.bounds(), aspect);
     sciray::SciVisParams params;
     params.background_color = {0.1f, 0.1f, 0.12f};
     params.background_alpha = 1.f;
@@ -178,7 +191,9 @@ int main(int argc, char** argv) {
 
   RenderOptions opt;
   auto* render_cmd = app.add_subcommand("render", "Render a mesh (or the built-in scene) to an image");
-  render_cmd->add_option("mesh", opt.mesh, "PLY mesh; without it, a built-in scene");
+  render_cmd->add_option("mesh", opt.mesh,
+                         "PLY mesh, or builtin:NAME (torus_1M, torus_5M, torus_20M, cornell_box, bunny, ...); "
+                         "without it, the default scene");
   render_cmd->add_option("--camera", opt.camera, "camera JSON {position, look_at, up, fovy}");
   render_cmd->add_option("--size", opt.size, "image size WIDTHxHEIGHT");
   render_cmd->add_option("--isa", opt.isa, "auto|avx512|avx2|sse4.2|scalar (also SCIRAY_ISA)");

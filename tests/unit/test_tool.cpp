@@ -83,6 +83,24 @@ TEST_CASE("sciray render: the built-in scene, a camera file and float output", "
   CHECK(distance.at(32, 6, 0) == Approx(2.65 * std::sqrt(1 + slope * slope)).margin(0.1));
 }
 
+TEST_CASE("sciray render: standard scenes by name", "[tool]") {
+  const auto out = scratch("cornell.pfm");
+  const Run run = run_tool("render builtin:cornell_box --size 64x64 -o " + out.string());
+  INFO(run.output);
+  REQUIRE(run.exit_code == 0);
+  const auto image = sciray::io::read_pfm(out);
+  // The published camera looks down +z with +y up, so +x (the red wall) is on the left
+  // and the green wall on the right; both span the middle row's outer pixels.
+  const float left_r = image.at(2, 32, 0), left_g = image.at(2, 32, 1);
+  const float right_r = image.at(61, 32, 0), right_g = image.at(61, 32, 1);
+  CHECK(left_r > 2 * left_g);
+  CHECK(right_g > 2 * right_r);
+
+  const Run unknown = run_tool("render builtin:teapot --size 8x8");
+  CHECK(unknown.exit_code == 1);
+  CHECK_THAT(unknown.output, Catch::Contains("unknown standard scene 'teapot'") && Catch::Contains("cornell_box"));
+}
+
 TEST_CASE("sciray reports bad input clearly", "[tool][errors]") {
   const auto truncated = scratch("truncated.ply");
   {

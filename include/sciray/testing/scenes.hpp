@@ -8,9 +8,17 @@
 #include <cmath>
 #include <cstddef>
 #include <numbers>
+#include <optional>
 
+#include <filesystem>
+#include <string>
+#include <string_view>
+
+#include "sciray/error.hpp"
 #include "sciray/geometry/mesh_data.hpp"
+#include "sciray/io/ply.hpp"
 #include "sciray/math/vec.hpp"
+#include "sciray/render/camera.hpp"
 
 namespace sciray::testing {
 
@@ -78,6 +86,67 @@ inline MeshData wavy_torus(std::size_t target_triangles, bool quads = false) {
     }
   }
   return mesh;
+}
+
+/// The Cornell box (the Cornell program's published dimensions, in mm: a 555 mm cube
+/// open at the front, red left wall, green right wall, a short and a tall block, the
+/// light patch under the ceiling) as a quad mesh with per-face colours.
+inline MeshData cornell_box() {
+  MeshData mesh;
+  mesh.vertices_per_face = 4;
+  const auto quad = [&](Vec3f a, Vec3f b, Vec3f c, Vec3f d, Vec3f color) {
+    const auto first = static_cast<std::uint32_t>(mesh.vertex_count());
+    for (const Vec3f& p : {a, b, c, d}) mesh.positions.insert(mesh.positions.end(), {p.x, p.y, p.z});
+    mesh.indices.insert(mesh.indices.end(), {first, first + 1, first + 2, first + 3});
+    mesh.face_colors.insert(mesh.face_colors.end(), {color.x, color.y, color.z, 1.f});
+  };
+  const Vec3f white{0.73f, 0.73f, 0.73f}, red{0.65f, 0.05f, 0.05f}, green{0.12f, 0.45f, 0.15f}, light{1.f, 1.f, 1.f};
+  quad({552.8f, 0, 0}, {0, 0, 0}, {0, 0, 559.2f}, {549.6f, 0, 559.2f}, white);                    // floor
+  quad({556, 548.8f, 0}, {556, 548.8f, 559.2f}, {0, 548.8f, 559.2f}, {0, 548.8f, 0}, white);      // ceiling
+  quad({549.6f, 0, 559.2f}, {0, 0, 559.2f}, {0, 548.8f, 559.2f}, {556, 548.8f, 559.2f}, white);   // back
+  quad({0, 0, 559.2f}, {0, 0, 0}, {0, 548.8f, 0}, {0, 548.8f, 559.2f}, green);                    // right
+  quad({552.8f, 0, 0}, {549.6f, 0, 559.2f}, {556, 548.8f, 559.2f}, {556, 548.8f, 0}, red);        // left
+  quad({343, 548.7f, 227}, {343, 548.7f, 332}, {213, 548.7f, 332}, {213, 548.7f, 227}, light);    // light
+  // A block from its top face down to the floor.
+  const auto block = [&](std::array<Vec3f, 4> top) {
+    quad(top[0], top[1], top[2], top[3], white);
+    for (int k = 0; k < 4; ++k) {
+      const Vec3f a = top[k], b = top[(k + 1) % 4];
+      quad(a, {a.x, 0, a.z}, {b.x, 0, b.z}, b, white);
+    }
+  };
+  block({Vec3f{130, 165, 65}, {82, 165, 225}, {240, 165, 272}, {290, 165, 114}});
+  block({Vec3f{423, 330, 247}, {265, 330, 296}, {314, 330, 456}, {472, 330, 406}});
+  return mesh;
+}
+
+/// The camera the Cornell program published for the box.
+inline PerspectiveCamera cornell_box_camera(float aspect = 1.f) {
+  PerspectiveCamera camera;
+  camera.position = {278, 273, -800};
+  camera.direction = {0, 0, 1};
+  camera.fovy = 39.3f;
+  camera.aspect = aspect;
+  return camera;
+}
+
+/// A standard scene by name: "torus_1M", "torus_5M", "torus_20M" (displaced tori of that
+/// many triangles), "cornell_box", or a real mesh of the shared data ("bunny", "lucy",
+/// "horse", "turbineblade", "footbones") read from `data_dir`.
+struct StandardScene {
+  MeshData mesh;
+  std::optional<PerspectiveCamera> camera;  ///< empty: frame the bounds
+};
+
+inline StandardScene standard_scene(std::string_view name, const std::filesystem::path& data_dir = {}) {
+  if (name == "torus_1M") return {wavy_torus(1'000'000), std::nullopt};
+  if (name == "torus_5M") return {wavy_torus(5'000'000), std::nullopt};
+  if (name == "torus_20M") return {wavy_torus(20'000'000), std::nullopt};
+  if (name == "cornell_box") return {cornell_box(), cornell_box_camera()};
+  for (const char* real : {"bunny", "lucy", "horse", "turbineblade", "footbones"})
+    if (name == real) return {io::read_ply(data_dir / "meshes" / (std::string(name) + ".ply")), std::nullopt};
+  throw Error("unknown standard scene '" + std::string(name) +
+              "' (torus_1M, torus_5M, torus_20M, cornell_box, bunny, lucy, horse, turbineblade, footbones)");
 }
 
 }  // namespace sciray::testing
