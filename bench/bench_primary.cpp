@@ -19,7 +19,7 @@ constexpr int image_size = 1024;
 
 struct Scene {
   sciray::accel::Device device;
-  sciray::shim::MeshWorld world{device};
+  sciray::shim::EngineWorld world{device};
   sciray::PerspectiveCamera camera;
 };
 

@@ -5,8 +5,9 @@
         --benchmark_report_aggregates_only=true --benchmark_out=frame.json
     python3 bench/ratio.py frame.json
 
-Prints a Markdown table: for each scene, each engine benchmark's median rays/s and its
-ratio to frame/raw_embree/intersect16/<scene>.
+Prints Markdown tables: for each scene, each engine benchmark's median rays/s and its
+ratio to frame/raw_embree/intersect16/<scene>; for spheres, sciray's own intersector
+against Embree's native spheres (frame/spheres/<isa>/native/<scene>) of the same ISA.
 """
 import json
 import re
@@ -37,6 +38,18 @@ def main(path):
     for name, rate in sorted(rates.items()):
         if name.startswith("frame/raw_embree"):
             print(f"| `{name}` (baseline) | {rate / 1e6:.1f} | 1.00 |")
+
+    spheres = sorted(name for name in rates if name.startswith("frame/spheres/"))
+    if spheres:
+        print("\n| benchmark | Mrays/s | own / native |")
+        print("|---|---:|---:|")
+        for name in spheres:
+            native = rates.get(name.replace("/own/", "/native/"))
+            ratio = f"{rates[name] / native:.2f}" if "/own/" in name and native else "1.00" if "/native/" in name else "n/a"
+            print(f"| `{name}` | {rates[name] / 1e6:.1f} | {ratio} |")
+    for name, rate in sorted(rates.items()):
+        if name.startswith("frame/curves/"):
+            print(f"| `{name}` | {rate / 1e6:.1f} | |")
 
 
 if __name__ == "__main__":

@@ -11,9 +11,14 @@
 namespace sciray::shim {
 
 template <class Arch>
-void render_scivis(const MeshWorld& world, const SciVisParams& params, const Camera& camera, FrameBuffer& fb,
+void commit(EngineWorld& world) {
+  world.template commit<Arch>();
+}
+
+template <class Arch>
+void render_scivis(const EngineWorld& world, const SciVisParams& params, const Camera& camera, FrameBuffer& fb,
                    FrameControl* control) {
-  const SciVis<Arch, MeshWorld> renderer(world, params);
+  const SciVis<Arch, EngineWorld> renderer(world, params);
   render_frame<Arch>(renderer, camera, fb, control);
 }
 
@@ -40,14 +45,15 @@ void trace(RTCScene scene, std::span<const Ray<float>> rays, std::span<TraceResu
     for (int i = 0; i < count; ++i) {
       const bool lane_hit = simd::lane(hit.hit, i);
       results[first + i] = {lane_hit ? simd::lane(hit.t, i) : inf, simd::lane(hit.u, i), simd::lane(hit.v, i),
-                            lane_hit ? simd::lane(hit.prim_id, i) : -1, lane_hit ? simd::lane(hit.geom_id, i) : -1};
+                            lane_hit ? simd::lane(hit.prim_id, i) : -1, lane_hit ? simd::lane(hit.geom_id, i) : -1,
+                            lane_hit ? simd::lane(hit.inst_id, i) : -1};
     }
   }
 }
 
 template <class Arch>
 IsaKernels make_kernels(simd::Isa isa) {
-  return {isa, &render_scivis<Arch>, &trace<Arch>};
+  return {isa, &commit<Arch>, &render_scivis<Arch>, &trace<Arch>};
 }
 
 }  // namespace sciray::shim

@@ -1,8 +1,10 @@
-// The `sciray` command-line tool: renders meshes (or a built-in scene) to images and
-// reports what the work cost.
+// The `sciray` command-line tool: renders meshes, molecules (or a built-in scene) to
+// images and reports what the work cost.
 //   sciray info
-//   sciray render [MESH.ply] [--camera cam.json] [--size WxH] [--isa auto|avx512|avx2|sse4.2|scalar]
-//                 [--threads N] [--frames N] [-o out.png|out.pfm] [--depth depth.pfm] [--json]
+//   sciray render [MESH.ply|MOLECULE.pdb|builtin:NAME] [--camera cam.json] [--size WxH]
+//                 [--isa auto|avx512|avx2|sse4.2|scalar] [--threads N] [--frames N]
+//                 [-o out.png|out.pfm] [--depth depth.pfm] [--json]
+//                 [--style ball-and-stick|space-filling] [--sphere-intersector sciray|embree]
 #include <chrono>
 #include <cstdio>
 #include <fstream>
@@ -16,6 +18,7 @@
 #include <tbb/info.h>
 #include <tbb/task_arena.h>
 
+#include "sciray/geometry/molecule.hpp"
 #include "sciray/io/frame_io.hpp"
 #include "sciray/io/ply.hpp"
 #include "sciray/shim/engine.hpp"
@@ -77,7 +80,15 @@ struct RenderOptions {
   std::string output = "sciray.png";
   std::string depth;
   bool json = false;
+  std::string style = "ball-and-stick";
+  std::string sphere_intersector = "sciray";
 };
+
+sciray::SphereIntersector parse_intersector(const std::string& name) {
+  if (name == "sciray") return sciray::SphereIntersector::sciray;
+  if (name == "embree") return sciray::SphereIntersector::embree;
+  throw sciray::Error("--sphere-intersector: expected sciray or embree, got '" + name + "'");
+}
 
 int render(const RenderOptions& opt) {
   const auto [width, height] = parse_size(opt.size);
@@ -92,33 +103,46 @@ int render(const RenderOptions& opt) {
   tbb::task_arena arena(threads);
   arena.execute([&] {
     auto start = Clock::now();
-    // "builtin:NAME" is a standard scene (testing/scenes.hpp); no mesh, the default one.
-    std::optional<sciray::PerspectiveCamera> scene_camera;
-    sciray::MeshData data;
+    // "builtin:NAME" is a standard scene (testing/scenes.hpp), .pdb a molecule, otherwise
+    // a PLY mesh; nothing, the default scene.
+    sciray::testing::StandardScene scene;
     if (opt.mesh.empty()) {
-      data = sciray::testing::wavy_torus(400'000);
+      scene.mesh = sciray::testing::wavy_torus(400'000);
     } else if (opt.mesh.rfind("builtin:", 0) == 0) {
-      auto scene = sciray::testing::standard_scene(opt.mesh.substr(8), SCIRAY_DATA_DIR);
-      data = std::move(scene.mesh);
-      scene_camera = scene.camera;
+      scene = sciray::testing::standard_scene(opt.mesh.substr(8), SCIRAY_DATA_DIR);
+    } else if (std::filesystem::path(opt.mesh).extension() == ".pdb") {
+      auto molecule = sciray::molecule_geometry(sciray::io::read_pdb(opt.mesh), sciray::parse_molecule_style(opt.style));
+      scene.spheres = std::move(molecule.atoms);
+      scene.curves = std::move(molecule.bonds);
     } else {
-      data = sciray::io::read_ply(opt.mesh);
+      scene.mesh = sciray::io::read_ply(opt.mesh);
     }
     const double load_ms = ms_since(start);
 
     sciray::accel::Device device;
-    sciray::shim::MeshWorld world(device);
-    sciray::TriangleMesh mesh(std::move(data));
-    const std::size_t triangles = mesh.triangle_count(), vertices = mesh.vertex_count();
-    world.add(std::move(mesh));
+    sciray::shim::EngineWorld world(device);
+    std::size_t triangles = 0, vertices = 0, spheres = 0, curve_segments = 0;
+    if (scene.mesh) {
+      sciray::TriangleMesh mesh(std::move(*scene.mesh));
+      triangles = mesh.triangle_count(), vertices = mesh.vertex_count();
+      world.add(std::move(mesh));
+    }
+    if (scene.spheres) {
+      spheres = scene.spheres->count();
+      world.add(sciray::Spheres(std::move(*scene.spheres)).set_intersector(parse_intersector(opt.sphere_intersector)));
+    }
+    if (scene.curves) {
+      curve_segments = scene.curves->indices.size();
+      world.add(sciray::Curves(std::move(*scene.curves)));
+    }
     start = Clock::now();
-    world.commit();
+    kernels.commit(world);
     const double build_ms = ms_since(start);
 
     const float aspect = static_cast<float>(width) / static_cast<float>(height);
-    if (scene_camera) scene_camera->aspect = aspect;
+    if (scene.camera) scene.camera->aspect = aspect;
     const sciray::Camera camera = !opt.camera.empty() ? read_camera(opt.camera, aspect)
-                                  : scene_camera      ? *scene_camera
+                                  : scene.camera      ? *scene.camera
                                                       : sciray::frame_bounds(world.bounds(), aspect);
     sciray::SciVisParams params;
     params.background_color = {0.1f, 0.1f, 0.12f};
@@ -151,10 +175,15 @@ int render(const RenderOptions& opt) {
               {"height", height},
               {"triangles", triangles},
               {"vertices", vertices},
+              {"spheres", spheres},
+              {"curve_segments", curve_segments},
+              {"sphere_intersector", opt.sphere_intersector},
               {"load_ms", load_ms},
               {"bvh_build_ms", build_ms},
               {"frame_ms", frame_ms},
-              {"memory_bytes", {{"geometry", total_bytes - bvh_bytes}, {"bvh", bvh_bytes}, {"total", total_bytes}}}};
+              {"memory_bytes", {{"geometry", total_bytes - bvh_bytes}, {"bvh", bvh_bytes}, {"total", total_bytes}}},
+              {"bytes_per_primitive",
+               static_cast<double>(total_bytes) / static_cast<double>(triangles + spheres + curve_segments)}};
   });
   if (opt.json) {
     std::cout << report.dump() << "\n";
@@ -162,7 +191,8 @@ int render(const RenderOptions& opt) {
     double mean = 0;
     for (double ms : report["frame_ms"]) mean += ms;
     mean /= opt.frames;
-    std::cout << "rendered " << report["triangles"] << " triangles at " << width << "x" << height << " with "
+    std::cout << "rendered " << report["triangles"] << " triangles, " << report["spheres"] << " spheres and "
+              << report["curve_segments"] << " curve segments at " << width << "x" << height << " with "
               << report["isa"].get<std::string>() << " on " << threads << " threads: " << mean
               << " ms/frame -> " << opt.output << "\n";
   }
@@ -192,7 +222,8 @@ int main(int argc, char** argv) {
   RenderOptions opt;
   auto* render_cmd = app.add_subcommand("render", "Render a mesh (or the built-in scene) to an image");
   render_cmd->add_option("mesh", opt.mesh,
-                         "PLY mesh, or builtin:NAME (torus_1M, torus_5M, torus_20M, cornell_box, bunny, ...); "
+                         "PLY mesh, PDB molecule, or builtin:NAME (torus_1M, cornell_box, spheres_1M, streamlines, bunny, "
+                         "...); "
                          "without it, the default scene");
   render_cmd->add_option("--camera", opt.camera, "camera JSON {position, look_at, up, fovy}");
   render_cmd->add_option("--size", opt.size, "image size WIDTHxHEIGHT");
@@ -202,6 +233,9 @@ int main(int argc, char** argv) {
   render_cmd->add_option("-o,--output", opt.output, "output image (.png, or .pfm for float colour)");
   render_cmd->add_option("--depth", opt.depth, "also write Euclidean depth to this .pfm");
   render_cmd->add_flag("--json", opt.json, "print timings and sizes as one JSON object");
+  render_cmd->add_option("--style", opt.style, "molecules: ball-and-stick or space-filling");
+  render_cmd->add_option("--sphere-intersector", opt.sphere_intersector,
+                         "sciray (own packet intersector) or embree (Embree's point geometry)");
 
   try {
     app.parse(argc, argv);

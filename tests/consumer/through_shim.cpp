@@ -4,7 +4,7 @@
 
 int main() {
   sciray::accel::Device device;
-  sciray::shim::MeshWorld world(device);
+  sciray::shim::EngineWorld world(device);
   world.add(sciray::TriangleMesh(sciray::testing::wavy_torus(2000)));
   world.commit();
   sciray::FrameBuffer fb(32, 32);

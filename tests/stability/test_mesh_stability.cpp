@@ -75,7 +75,7 @@ TEST_CASE("rays exactly through shared edges of a closed mesh do not slip throug
   // The first hit is at the target or before it (the tube may be in the way).
   const auto misses = [&](bool robust, simd::Isa isa, std::size_t first, std::size_t last) {
     accel::Device device;
-    shim::MeshWorld world(device);
+    shim::EngineWorld world(device);
     world.set_robust(robust);
     world.add(TriangleMesh(torus));
     world.commit();
@@ -108,7 +108,7 @@ TEST_CASE("meshes far from the origin lose precision with float vertices", "[sta
     MeshData moved = bunny;
     for (std::size_t i = 0; i < moved.positions.size(); ++i) moved.positions[i] += offset;
     accel::Device device;
-    shim::MeshWorld world(device);
+    shim::EngineWorld world(device);
     world.add(TriangleMesh(std::move(moved)));
     world.commit();
     PerspectiveCamera camera;
@@ -136,7 +136,7 @@ TEST_CASE("degenerate triangles neither crash nor produce NaN nor steal hits", "
   m.positions = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, 0.5f, 0.5f, 0, 0.25f, 0.25f, 0};
   m.indices = {0, 1, 2, 0, 2, 3, 0, 0, 1, 0, 4, 2, 5, 5, 5};
   accel::Device device;
-  shim::MeshWorld world(device);
+  shim::EngineWorld world(device);
   world.add(TriangleMesh(std::move(m)));
   world.commit();
   PerspectiveCamera camera;

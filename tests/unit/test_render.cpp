@@ -32,7 +32,7 @@ std::vector<simd::Isa> supported_packet_isas() {
 
 struct BunnyScene {
   accel::Device device;
-  shim::MeshWorld world{device};
+  shim::EngineWorld world{device};
   PerspectiveCamera camera;
   SciVisParams params;
 
@@ -178,7 +178,7 @@ TEST_CASE("accumulation averages jittered frames into anti-aliased coverage", "[
 
 TEST_CASE("depth channels hold Euclidean and projected distance", "[render][frame]") {
   accel::Device device;
-  shim::MeshWorld world(device);
+  shim::EngineWorld world(device);
   MeshData plane;
   plane.positions = {-10, -10, 0, 10, -10, 0, 10, 10, 0, -10, 10, 0};
   plane.vertices_per_face = 4;

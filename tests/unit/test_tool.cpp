@@ -101,12 +101,43 @@ TEST_CASE("sciray render: standard scenes by name", "[tool]") {
   CHECK_THAT(unknown.output, Catch::Contains("unknown standard scene 'teapot'") && Catch::Contains("cornell_box"));
 }
 
+TEST_CASE("sciray render: molecules as balls and sticks or space filling", "[tool][pdb]") {
+  const auto out = scratch("lysozyme.png");
+  const Run sticks = run_tool("render " SCIRAY_DATA_DIR "/molecules/2LYZ.pdb --size 96x96 --json -o " + out.string());
+  INFO(sticks.output);
+  REQUIRE(sticks.exit_code == 0);
+  const auto report = nlohmann::json::parse(sticks.output);
+  CHECK(report["spheres"] == 1001);          // waters are skipped
+  CHECK(report["curve_segments"] == 2 * 1032);  // each bond is two half-bonds
+  // A sphere costs its 16 bytes of centre and radius plus colour and BVH; a tessellated
+  // sphere of 80 triangles would cost several kilobytes (docs/performance.md).
+  CHECK(report["bytes_per_primitive"].get<double>() < 200);
+  const auto image = sciray::io::read_png(out);
+  CHECK(image.at(48, 48, 0) != image.at(0, 0, 0));
+
+  const Run filled = run_tool("render " SCIRAY_DATA_DIR "/molecules/3GQP.pdb --style space-filling --size 64x64 "
+                              "--sphere-intersector embree --json -o " + scratch("3gqp.png").string());
+  INFO(filled.output);
+  REQUIRE(filled.exit_code == 0);
+  const auto filled_report = nlohmann::json::parse(filled.output);
+  CHECK(filled_report["spheres"] == 4576);
+  CHECK(filled_report["curve_segments"] == 0);
+  CHECK(filled_report["sphere_intersector"] == "embree");
+}
+
 TEST_CASE("sciray reports bad input clearly", "[tool][errors]") {
   const auto truncated = scratch("truncated.ply");
   {
     std::ifstream in(SCIRAY_DATA_DIR "/meshes/lucy.ply", std::ios::binary);
     std::string bytes((std::istreambuf_iterator<char>(in)), {});
     std::ofstream(truncated, std::ios::binary) << bytes.substr(0, bytes.size() / 2);
+  }
+  const auto truncated_pdb = scratch("truncated.pdb");
+  {
+    std::ifstream in(SCIRAY_DATA_DIR "/molecules/2LYZ.pdb");
+    std::string text((std::istreambuf_iterator<char>(in)), {});
+    // Cut inside the coordinates of an ATOM record.
+    std::ofstream(truncated_pdb) << text.substr(0, text.find("\nATOM", text.size() / 2) + 40);
   }
   const auto bad_camera = scratch("bad_cam.json");
   std::ofstream(bad_camera) << R"({"position": [0, 0], "look_at": [0, 0, -1]})";
@@ -119,6 +150,9 @@ TEST_CASE("sciray reports bad input clearly", "[tool][errors]") {
       {"render --frames 0", "--frames"},
       {"render --camera " + bad_camera.string(), "\"position\" must be an array of 3 numbers"},
       {"render -o image.bmp --size 8x8", "unknown image extension"},
+      {"render " SCIRAY_DATA_DIR "/molecules/2LYZ.pdb --style cartoon", "unknown molecule style 'cartoon'"},
+      {"render " SCIRAY_DATA_DIR "/molecules/2LYZ.pdb --sphere-intersector naive", "--sphere-intersector"},
+      {"render " + truncated_pdb.string(), "truncated.pdb: line"},
   };
   for (const auto& [arguments, expected] : cases) {
     const Run run = run_tool(arguments);

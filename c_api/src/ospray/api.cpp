@@ -279,7 +279,7 @@ OSPCamera ospNewCamera(const char* type) {
 OSPGeometry ospNewGeometry(const char* type) {
   return guarded("ospNewGeometry", [&] {
     const std::string t = type_string(type);
-    if (t != "mesh") unknown_type("geometry", t, "mesh");
+    if (t != "mesh" && t != "sphere" && t != "curve") unknown_type("geometry", t, "mesh, sphere, curve");
     return handle_of<OSPGeometry>(new Geometry(t));
   }, OSPGeometry{});
 }
@@ -473,7 +473,7 @@ FrameInputs frame_inputs(OSPFrameBuffer fb, OSPRenderer renderer, OSPCamera came
   if (!in.camera->committed()) throw Error(in.camera->name() + " has not been committed");
   if (!w.committed()) throw Error("world has not been committed");
   std::vector<std::string> warnings;
-  in.world = w.built(warnings);
+  in.world = w.built(device().kernels(), warnings);
   for (const auto& message : warnings) device().warn(message);
   return in;
 }
@@ -492,7 +492,8 @@ OSPFuture ospRenderFrame(OSPFrameBuffer fb, OSPRenderer renderer, OSPCamera came
       std::lock_guard lock(in.fb->mutex());
       try {
         dev.arena().execute([&] {
-          dev.kernels().render_scivis(*in.world->world, params, in.camera->camera(), in.fb->frame(), &control);
+          // The kernels the world was committed with (the device's when the frame started).
+          in.world->kernels->render_scivis(*in.world->world, params, in.camera->camera(), in.fb->frame(), &control);
         });
       } catch (const std::exception& e) {
         dev.error(OSP_UNKNOWN_ERROR, std::string("ospRenderFrame: ") + e.what());
@@ -536,7 +537,7 @@ void ospPick(OSPPickResult* result, OSPFrameBuffer fb, OSPRenderer renderer, OSP
     FrameInputs in = frame_inputs(fb, renderer, camera, world);
     const Ray<float> ray = std::visit([&](const auto& c) { return sciray::prepare(c).generate(x, y); }, in.camera->camera());
     shim::TraceResult hit;
-    device().kernels().trace(in.world->world->scene(), std::span(&ray, 1), std::span(&hit, 1));
+    in.world->kernels->trace(in.world->world->scene(), std::span(&ray, 1), std::span(&hit, 1));
     if (hit.geom_id < 0) return;
     const auto& origin = in.world->origins.at(static_cast<std::size_t>(hit.geom_id));
     const Vec3f p = ray.org + ray.dir * hit.t;

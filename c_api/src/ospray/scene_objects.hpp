@@ -1,11 +1,13 @@
 #pragma once
-// OSPRay's scene objects over sciray types: cameras, mesh geometry, geometric models,
-// groups, instances, worlds, lights, materials and renderers. Each reads its committed
+// OSPRay's scene objects over sciray types: cameras, geometry (mesh, sphere, curve),
+// geometric models, groups, instances, worlds, lights, materials and renderers. Each reads its committed
 // parameters in on_commit and names the parameter when one is wrong.
 #include <memory>
 #include <mutex>
 
 #include "data.hpp"
+#include "sciray/geometry/curves.hpp"
+#include "sciray/geometry/spheres.hpp"
 #include "sciray/geometry/triangle_mesh.hpp"
 #include "sciray/render/camera.hpp"
 #include "sciray/render/scivis.hpp"
@@ -37,18 +39,37 @@ private:
   Vec3f kd_{0.8f, 0.8f, 0.8f};
 };
 
+/// OSPRay's `mesh`, `sphere` and `curve` geometry; exactly one of mesh(), spheres() and
+/// curves() is set once committed, according to the subtype.
 class Geometry : public Object {
 public:
   explicit Geometry(std::string type) : Object(OSP_GEOMETRY, std::move(type)) {}
-  /// The mesh data as committed (owned, padded for Embree).
+  /// The mesh data as committed (owned, padded for Embree), or null.
   const std::shared_ptr<const MeshData>& mesh() const { return mesh_; }
+  /// The spheres as committed (owned, padded), or null; with their type and intersector.
+  const std::shared_ptr<const SphereData>& spheres() const { return spheres_; }
+  SphereType sphere_type() const { return sphere_type_; }
+  SphereIntersector sphere_intersector() const { return sphere_intersector_; }
+  /// The curves as committed (owned, padded), or null.
+  const std::shared_ptr<const CurveData>& curves() const { return curves_; }
+  /// Faces, spheres or curve segments: what a model's per-primitive `color` indexes.
+  std::size_t primitive_count() const { return primitive_count_; }
   Box3f bounds() const { return bounds_; }
 
 protected:
   void on_commit() override;
 
 private:
+  void commit_mesh();
+  void commit_spheres();
+  void commit_curves();
+
   std::shared_ptr<const MeshData> mesh_;
+  std::shared_ptr<const SphereData> spheres_;
+  SphereType sphere_type_ = SphereType::sphere;
+  SphereIntersector sphere_intersector_ = SphereIntersector::sciray;
+  std::shared_ptr<const CurveData> curves_;
+  std::size_t primitive_count_ = 0;
   Box3f bounds_;
 };
 
@@ -56,7 +77,8 @@ class GeometricModel : public Object {
 public:
   GeometricModel() : Object(OSP_GEOMETRIC_MODEL, "") {}
   Geometry* geometry() const { return geometry_.get(); }
-  std::optional<Vec3f> material_color() const { return material_color_; }
+  /// The material's `kd`, if the model has a material.
+  std::optional<Vec3f> material_color() const;
   /// Per-primitive colours (RGBA), or empty.
   const PaddedVector<float>& face_colors() const { return face_colors_; }
   std::uint64_t version() const override;
@@ -67,7 +89,6 @@ protected:
 private:
   Ref<Geometry> geometry_;
   Ref<Material> material_;
-  std::optional<Vec3f> material_color_;
   PaddedVector<float> face_colors_;
 };
 
@@ -131,11 +152,17 @@ private:
   Vec3f direction_{0.f, 0.f, 1.f};
 };
 
-/// The engine's form of a committed world: every (instance, model) pair as one mesh of
-/// a flat sciray world, rebuilt when anything the world uses is recommitted.
+/// The engine's form of a committed world: every (instance, model) pair as one geometry
+/// of a flat sciray world, rebuilt when anything the world uses is recommitted or when it
+/// is rendered with another ISA's kernels (sciray's own intersectors are per ISA).
 struct BuiltWorld {
   std::shared_ptr<accel::Device> device;
-  std::unique_ptr<shim::MeshWorld> world;
+  /// Arrays the world's geometries read in place (declared before `world`, which is
+  /// destroyed first).
+  std::vector<std::shared_ptr<const void>> keep_alive;
+  std::unique_ptr<shim::EngineWorld> world;
+  /// The kernels the world was committed with; frames and picks trace with them.
+  const shim::IsaKernels* kernels = nullptr;
   struct Origin {
     Ref<Instance> instance;
     Ref<GeometricModel> model;
@@ -148,8 +175,9 @@ struct BuiltWorld {
 class World : public Object {
 public:
   World() : Object(OSP_WORLD, "") {}
-  /// The engine world for the current commits of everything this world uses.
-  std::shared_ptr<const BuiltWorld> built(std::vector<std::string>& warnings);
+  /// The engine world for the current commits of everything this world uses, committed
+  /// through `kernels` (the rendering device's ISA).
+  std::shared_ptr<const BuiltWorld> built(const shim::IsaKernels& kernels, std::vector<std::string>& warnings);
   Box3f bounds() const;
   std::uint64_t version() const override;
 

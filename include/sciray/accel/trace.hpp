@@ -21,6 +21,7 @@ struct Hit {
   Vec3<F> ng;      ///< unnormalized geometric normal
   I prim_id;       ///< primitive index (0 where no hit)
   I geom_id;       ///< Embree geometry id (RTC_INVALID_GEOMETRY_ID where no hit)
+  I inst_id;       ///< top-level id of the instance hit, RTC_INVALID_GEOMETRY_ID for direct geometry
 };
 
 namespace detail {
@@ -112,6 +113,7 @@ Hit<Arch> intersect(RTCScene scene, const Ray<simd::Float<Arch>>& ray, const sim
     hit.ng = {rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z};
     hit.prim_id = static_cast<std::int32_t>(rh.hit.primID);
     hit.geom_id = static_cast<std::int32_t>(rh.hit.geomID);
+    hit.inst_id = static_cast<std::int32_t>(rh.hit.instID[0]);
   } else {
     using Packet = detail::EmbreePacket<simd::width<Arch>>;
     typename Packet::RayHit rh;
@@ -130,6 +132,7 @@ Hit<Arch> intersect(RTCScene scene, const Ray<simd::Float<Arch>>& ray, const sim
     hit.ng = {F::load_aligned(rh.hit.Ng_x), F::load_aligned(rh.hit.Ng_y), F::load_aligned(rh.hit.Ng_z)};
     hit.prim_id = I::load_aligned(reinterpret_cast<const std::int32_t*>(rh.hit.primID));
     hit.geom_id = I::load_aligned(reinterpret_cast<const std::int32_t*>(rh.hit.geomID));
+    hit.inst_id = I::load_aligned(reinterpret_cast<const std::int32_t*>(rh.hit.instID[0]));
   }
   return hit;
 }

@@ -122,7 +122,9 @@ public:
     return box;
   }
 
-  /// A committed Embree triangle or quad geometry reading this mesh's arrays in place.
+  /// A committed Embree triangle or quad geometry reading this mesh's arrays in place
+  /// (Embree's own intersector: Arch plays no part).
+  template <class Arch>
   RTCGeometry create_embree_geometry(const accel::Device& device) const {
     const bool quads = arrays_.vertices_per_face == 4;
     accel::GeometryHandle geometry(device, quads ? RTC_GEOMETRY_TYPE_QUAD : RTC_GEOMETRY_TYPE_TRIANGLE);

@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "sciray/accel/trace.hpp"
+#include "sciray/math/affine.hpp"
 #include "sciray/math/vec.hpp"
 #include "sciray/render/sample.hpp"
 
@@ -40,15 +41,20 @@ public:
     out.t = simd::select(hit.hit, hit.t, F(std::numeric_limits<float>::infinity()));
     if (!simd::any(hit.hit)) return out;
 
-    // A packet usually hits one geometry; shade each geometry's lanes together.
+    // A packet usually hits one geometry; shade each (instance, geometry)'s lanes together.
     M remaining = hit.hit;
     while (simd::any(remaining)) {
-      const std::int32_t geom_id = first_lane(hit.geom_id, remaining);
-      const M lanes = remaining & (simd::to_float(hit.geom_id) == F(static_cast<float>(geom_id)));
-      world_->visit(static_cast<std::uint32_t>(geom_id), [&](const auto& geometry) {
-        const auto surface = geometry.template surface<Arch>(hit, lanes);
-        out.color = select(lanes, shade(ray, surface), out.color);
-      });
+      const int lane = first_lane(remaining);
+      const std::int32_t geom_id = simd::lane(hit.geom_id, lane), inst_id = simd::lane(hit.inst_id, lane);
+      const M lanes = remaining & (simd::to_float(hit.geom_id) == F(static_cast<float>(geom_id))) &
+                      (simd::to_float(hit.inst_id) == F(static_cast<float>(inst_id)));
+      world_->visit_hit(static_cast<std::uint32_t>(inst_id), static_cast<std::uint32_t>(geom_id),
+                        [&](const auto& geometry, const Affine3f* transform) {
+                          auto surface = geometry.template surface<Arch>(hit, lanes);
+                          // Instanced hits come back in the group's space.
+                          if (transform) surface.normal = normalize(transform->normal(surface.normal));
+                          out.color = select(lanes, shade(ray, surface), out.color);
+                        });
       out.alpha = simd::select(lanes, F(1.f), out.alpha);
       remaining = remaining & !lanes;
     }
@@ -68,9 +74,9 @@ private:
     return albedo * light;
   }
 
-  static std::int32_t first_lane(const simd::Int<Arch>& values, const M& mask) {
+  static int first_lane(const M& mask) {
     for (int i = 0; i < simd::width<Arch>; ++i)
-      if (simd::lane(mask, i)) return simd::lane(values, i);
+      if (simd::lane(mask, i)) return i;
     return 0;
   }
 

@@ -1,64 +1,67 @@
 #pragma once
-// World<Geometries...>: the compile-time set of geometry types a scene uses, their
-// instances, and the Embree scene over them. A program that renders only meshes
+// Group<Geometries...> and World<Geometries...>: the compile-time set of geometry types a
+// scene uses, and Embree scenes over them. A program that renders only meshes
 // instantiates World<TriangleMesh> and compiles no code for other types.
 //
-// The world holds data and the BVH only; it is not templated on the SIMD architecture
-// because Embree's build is ISA-independent. Renderers, which run per ray, take Arch.
-#include <array>
+// A world holds geometries placed directly, and instances: a shared Group (its own BVH,
+// built once) placed by an affine transform through Embree's instancing, so 10,000
+// instances of a 1M-triangle group cost one copy of the group plus a small top-level BVH.
+//
+// Neither is templated on the SIMD architecture, because Embree's build is
+// ISA-independent; `commit<Arch>` only tells geometries with sciray's own intersectors
+// which compiled packet code to register. Renderers, which run per ray, take Arch.
+#include <algorithm>
+#include <cmath>
 #include <concepts>
 #include <cstdint>
+#include <deque>
+#include <memory>
 #include <string>
 #include <tuple>
 #include <vector>
 
 #include "sciray/accel/embree.hpp"
+#include "sciray/error.hpp"
+#include "sciray/math/affine.hpp"
 #include "sciray/math/box.hpp"
+#include "sciray/simd/packet.hpp"
 
 namespace sciray {
 
-/// What the world needs of a geometry type.
+/// What a group needs of a geometry type. `create_embree_geometry<Arch>` may register
+/// sciray's own intersectors (compiled for Arch) with Embree, so the geometry's address
+/// must not change while the scene exists: groups keep geometries in deques.
 template <class G>
 concept Geometry = requires(const G& g, const accel::Device& device) {
   { g.validate() } -> std::same_as<void>;
   { g.bounds() } -> std::same_as<Box3f>;
   { g.owned_bytes() } -> std::convertible_to<std::size_t>;
-  { g.create_embree_geometry(device) } -> std::same_as<RTCGeometry>;
+  { g.template create_embree_geometry<simd::scalar>(device) } -> std::same_as<RTCGeometry>;
 };
 
 template <Geometry... Geometries>
-class World {
+class Group {
 public:
-  explicit World(const accel::Device& device) : device_(&device), scene_(device) {}
+  explicit Group(const accel::Device& device) : device_(&device), scene_(device) {}
 
   /// Adds a geometry; returns its id, which hits report as geom_id. Takes effect at commit.
   template <class G>
   std::uint32_t add(G geometry) {
-    static_assert((std::is_same_v<G, Geometries> || ...), "World was not composed with this geometry type");
-    auto& list = std::get<std::vector<G>>(geometries_);
+    static_assert((std::is_same_v<G, Geometries> || ...), "the group was not composed with this geometry type");
+    auto& list = std::get<std::deque<G>>(geometries_);
     refs_.push_back({type_index<G>(), static_cast<std::uint32_t>(list.size())});
     list.push_back(std::move(geometry));
     committed_ = false;
     return static_cast<std::uint32_t>(refs_.size() - 1);
   }
 
-  /// Validates every geometry and builds the BVH.
+  /// Validates every geometry and builds the group's BVH.
+  template <class Arch = xsimd::default_arch>
   void commit() {
     accel::Scene scene(*device_);
-    // Embree's default traversal lets rays exactly through a shared edge slip between the
-    // two triangles (tests/stability); robust mode closes edges at no measured cost.
-    if (robust_) rtcSetSceneFlags(scene.get(), RTC_SCENE_FLAG_ROBUST);
+    configure(scene);
     bounds_ = {};
-    for (std::size_t id = 0; id < refs_.size(); ++id) {
-      visit(static_cast<std::uint32_t>(id), [&](const auto& geometry) {
-        geometry.validate();
-        RTCGeometry g = geometry.create_embree_geometry(*device_);
-        rtcAttachGeometryByID(scene.get(), g, static_cast<unsigned>(id));
-        rtcReleaseGeometry(g);
-        device_->check("rtcAttachGeometryByID");
-        bounds_.extend(geometry.bounds());
-      });
-    }
+    attach_geometries<Arch>(scene.get(), 0);
     scene.commit();
     scene_ = std::move(scene);
     committed_ = true;
@@ -77,21 +80,47 @@ public:
   /// Calls f(geometry) with the concrete geometry of id `id`.
   template <class F>
   decltype(auto) visit(std::uint32_t id, F&& f) const {
-    const Ref ref = refs_.at(id);
-    return visit_type<0>(ref, std::forward<F>(f));
+    return visit_type<0>(refs_.at(id), std::forward<F>(f));
   }
 
   template <class G>
-  const std::vector<G>& all() const {
-    return std::get<std::vector<G>>(geometries_);
+  const std::deque<G>& all() const {
+    return std::get<std::deque<G>>(geometries_);
   }
 
-  /// Bytes of geometry data sciray owns, plus what Embree holds (BVH and buffers).
-  std::size_t memory_bytes() const {
+  /// Bytes of geometry data sciray owns (Embree's share is counted by the device).
+  std::size_t owned_bytes() const {
     std::size_t bytes = 0;
     std::apply([&](const auto&... lists) { ((bytes += owned_bytes(lists)), ...); }, geometries_);
-    return bytes + static_cast<std::size_t>(std::max<std::int64_t>(0, device_->bytes_in_use()));
+    return bytes;
   }
+
+protected:
+  void configure(accel::Scene& scene) const {
+    // Embree's default traversal lets rays exactly through a shared edge slip between the
+    // two triangles (tests/stability); robust mode closes edges at no measured cost.
+    if (robust_) rtcSetSceneFlags(scene.get(), RTC_SCENE_FLAG_ROBUST);
+  }
+
+  /// Attaches every geometry to `scene` with ids first_id, first_id + 1, ...
+  template <class Arch>
+  void attach_geometries(RTCScene scene, std::uint32_t first_id) {
+    for (std::uint32_t id = 0; id < refs_.size(); ++id) {
+      visit(id, [&](const auto& geometry) {
+        geometry.validate();
+        RTCGeometry g = geometry.template create_embree_geometry<Arch>(*device_);
+        rtcAttachGeometryByID(scene, g, first_id + id);
+        rtcReleaseGeometry(g);
+        device_->check("rtcAttachGeometryByID");
+        bounds_.extend(geometry.bounds());
+      });
+    }
+  }
+
+  const accel::Device* device_;
+  accel::Scene scene_;
+  Box3f bounds_;
+  bool committed_ = false;
 
 private:
   struct Ref {
@@ -112,27 +141,105 @@ private:
   decltype(auto) visit_type(const Ref& ref, F&& f) const {
     using G = std::tuple_element_t<I, std::tuple<Geometries...>>;
     if constexpr (I + 1 == sizeof...(Geometries)) {
-      return f(std::get<std::vector<G>>(geometries_)[ref.index]);
+      return f(std::get<std::deque<G>>(geometries_)[ref.index]);
     } else {
-      if (ref.type == I) return f(std::get<std::vector<G>>(geometries_)[ref.index]);
+      if (ref.type == I) return f(std::get<std::deque<G>>(geometries_)[ref.index]);
       return visit_type<I + 1>(ref, std::forward<F>(f));
     }
   }
 
   template <class G>
-  static std::size_t owned_bytes(const std::vector<G>& list) {
+  static std::size_t owned_bytes(const std::deque<G>& list) {
     std::size_t bytes = 0;
     for (const auto& g : list) bytes += g.owned_bytes();
     return bytes;
   }
 
-  const accel::Device* device_;
-  accel::Scene scene_;
-  std::tuple<std::vector<Geometries>...> geometries_;
+  std::tuple<std::deque<Geometries>...> geometries_;
   std::vector<Ref> refs_;
-  Box3f bounds_;
-  bool committed_ = false;
   bool robust_ = true;
+};
+
+/// A world: geometries placed directly (ids 0..n-1 in the top-level scene) and instances
+/// of groups (ids n.. in the top-level scene; hits report them as inst_id).
+template <Geometry... Geometries>
+class World : public Group<Geometries...> {
+public:
+  using GroupType = Group<Geometries...>;
+  using GroupType::GroupType;
+
+  /// Places `group` (built at the world's commit if it is not yet) by `transform`;
+  /// returns the instance's index. Takes effect at commit.
+  std::uint32_t add_instance(std::shared_ptr<GroupType> group, const Affine3f& transform = {}) {
+    if (!group) throw Error("world: instance of a null group");
+    if (&group->device() != this->device_) throw Error("world: an instance's group must use the world's device");
+    if (transform.determinant() == 0.f || !std::isfinite(transform.determinant()))
+      throw Error("world: instance " + std::to_string(instances_.size()) + " has a singular or non-finite transform");
+    instances_.push_back({std::move(group), transform});
+    this->committed_ = false;
+    return static_cast<std::uint32_t>(instances_.size() - 1);
+  }
+
+  std::size_t instance_count() const { return instances_.size(); }
+  const Affine3f& instance_transform(std::uint32_t instance) const { return instances_.at(instance).transform; }
+
+  /// Builds the groups not yet built, then the top-level BVH over direct geometries and
+  /// instances.
+  template <class Arch = xsimd::default_arch>
+  void commit() {
+    accel::Scene scene(*this->device_);
+    this->configure(scene);
+    this->bounds_ = {};
+    this->template attach_geometries<Arch>(scene.get(), 0);
+    const auto first_instance = static_cast<std::uint32_t>(this->geometry_count());
+    for (std::uint32_t i = 0; i < instances_.size(); ++i) {
+      const Instance& instance = instances_[i];
+      if (!instance.group->committed()) instance.group->template commit<Arch>();
+      accel::GeometryHandle handle(*this->device_, RTC_GEOMETRY_TYPE_INSTANCE);
+      rtcSetGeometryInstancedScene(handle.get(), instance.group->scene());
+      const Affine3f& m = instance.transform;
+      const float columns[12] = {m.vx.x, m.vx.y, m.vx.z, m.vy.x, m.vy.y, m.vy.z,
+                                 m.vz.x, m.vz.y, m.vz.z, m.p.x,  m.p.y,  m.p.z};
+      rtcSetGeometryTransform(handle.get(), 0, RTC_FORMAT_FLOAT3X4_COLUMN_MAJOR, columns);
+      rtcCommitGeometry(handle.get());
+      rtcAttachGeometryByID(scene.get(), handle.get(), first_instance + i);
+      this->device_->check("world: instance");
+      this->bounds_.extend(m.transform(instance.group->bounds()));
+    }
+    scene.commit();
+    this->scene_ = std::move(scene);
+    this->committed_ = true;
+  }
+
+  /// Calls f(geometry, transform) for the geometry a hit reports: `inst_id` as Embree
+  /// reports it (RTC_INVALID_GEOMETRY_ID for a direct geometry, whose transform is null).
+  template <class F>
+  decltype(auto) visit_hit(std::uint32_t inst_id, std::uint32_t geom_id, F&& f) const {
+    if (inst_id == RTC_INVALID_GEOMETRY_ID)
+      return this->visit(geom_id, [&](const auto& g) { return f(g, static_cast<const Affine3f*>(nullptr)); });
+    const Instance& instance = instances_.at(inst_id - this->geometry_count());
+    return instance.group->visit(geom_id, [&](const auto& g) { return f(g, &instance.transform); });
+  }
+
+  /// Bytes of geometry data sciray owns (each group once, however often instanced), plus
+  /// what Embree holds (BVHs and buffers).
+  std::size_t memory_bytes() const {
+    std::size_t bytes = this->owned_bytes();
+    std::vector<const GroupType*> counted;
+    for (const Instance& instance : instances_) {
+      if (std::find(counted.begin(), counted.end(), instance.group.get()) != counted.end()) continue;
+      counted.push_back(instance.group.get());
+      bytes += instance.group->owned_bytes();
+    }
+    return bytes + static_cast<std::size_t>(std::max<std::int64_t>(0, this->device_->bytes_in_use()));
+  }
+
+private:
+  struct Instance {
+    std::shared_ptr<GroupType> group;
+    Affine3f transform;
+  };
+  std::vector<Instance> instances_;
 };
 
 }  // namespace sciray

@@ -2,20 +2,25 @@
 // Procedural, deterministic scenes shared by tests, benchmarks and examples (no data to
 // ship): a displaced torus whose triangle count is chosen by the caller, with vertex
 // normals and a colour map on the displacement, as an isosurface of simulation data
-// would carry.
+// would carry; random spheres (particles); streamlines of a steady flow (tubes).
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
 #include <numbers>
 #include <optional>
 
 #include <filesystem>
+#include <map>
+#include <vector>
 #include <string>
 #include <string_view>
 
 #include "sciray/error.hpp"
+#include "sciray/geometry/curves.hpp"
 #include "sciray/geometry/mesh_data.hpp"
+#include "sciray/geometry/spheres.hpp"
 #include "sciray/io/ply.hpp"
 #include "sciray/math/vec.hpp"
 #include "sciray/render/camera.hpp"
@@ -88,6 +93,115 @@ inline MeshData wavy_torus(std::size_t target_triangles, bool quads = false) {
   return mesh;
 }
 
+/// A uniform value in [0,1) from a counter: the same on every platform and standard
+/// library (unlike std:: distributions), so generated scenes are reproducible.
+inline float hash_uniform(std::uint64_t counter) {
+  std::uint64_t z = counter + 0x9E3779B97F4A7C15ull;  // splitmix64
+  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+  z ^= z >> 31;
+  return static_cast<float>(z >> 40) * 0x1p-24f;
+}
+
+/// `count` spheres with centres uniform in the unit cube, radii between 0.25 and 0.75 of
+/// the mean spacing (so the cube is about half filled whatever the count), coloured by
+/// position.
+inline SphereData random_spheres(std::size_t count, std::uint64_t seed = 1) {
+  SphereData spheres;
+  spheres.positions.resize(3 * count);
+  spheres.radii.resize(count);
+  spheres.colors.resize(4 * count);
+  const float spacing = std::cbrt(1.f / static_cast<float>(std::max<std::size_t>(count, 1)));
+  const std::uint64_t base = seed * 0x100000000ull * 8;
+  for (std::size_t i = 0; i < count; ++i) {
+    for (int k = 0; k < 3; ++k) spheres.positions[3 * i + k] = hash_uniform(base + 5 * i + k);
+    spheres.radii[i] = spacing * (0.25f + 0.5f * hash_uniform(base + 5 * i + 3));
+    const Vec3f c = colormap(hash_uniform(base + 5 * i + 4));
+    spheres.colors[4 * i] = c.x, spheres.colors[4 * i + 1] = c.y, spheres.colors[4 * i + 2] = c.z;
+    spheres.colors[4 * i + 3] = 1.f;
+  }
+  return spheres;
+}
+
+/// Spheres as triangle meshes: an icosahedron subdivided `subdivisions` times (20·4^n
+/// triangles a sphere), with per-vertex normals and the spheres' colours, i.e. what a
+/// rasterizing pipeline would have to store for the same picture.
+inline MeshData tessellate_spheres(const SphereData& spheres, int subdivisions) {
+  const float g = (1.f + std::sqrt(5.f)) / 2;
+  std::vector<Vec3f> unit{{-1, g, 0}, {1, g, 0}, {-1, -g, 0}, {1, -g, 0}, {0, -1, g}, {0, 1, g},
+                          {0, -1, -g}, {0, 1, -g}, {g, 0, -1}, {g, 0, 1}, {-g, 0, -1}, {-g, 0, 1}};
+  for (auto& v : unit) v = normalize(v);
+  std::vector<std::array<std::uint32_t, 3>> faces{{0, 11, 5}, {0, 5, 1}, {0, 1, 7}, {0, 7, 10}, {0, 10, 11},
+                                                  {1, 5, 9}, {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
+                                                  {3, 9, 4}, {3, 4, 2}, {3, 2, 6}, {3, 6, 8}, {3, 8, 9},
+                                                  {4, 9, 5}, {2, 4, 11}, {6, 2, 10}, {8, 6, 7}, {9, 8, 1}};
+  for (int level = 0; level < subdivisions; ++level) {
+    std::vector<std::array<std::uint32_t, 3>> finer;
+    std::map<std::pair<std::uint32_t, std::uint32_t>, std::uint32_t> midpoints;
+    const auto midpoint = [&](std::uint32_t a, std::uint32_t b) {
+      const auto [it, added] = midpoints.try_emplace({std::min(a, b), std::max(a, b)}, 0);
+      if (added) it->second = static_cast<std::uint32_t>(unit.size()), unit.push_back(normalize(unit[a] + unit[b]));
+      return it->second;
+    };
+    for (const auto& [a, b, c] : faces) {
+      const std::uint32_t ab = midpoint(a, b), bc = midpoint(b, c), ca = midpoint(c, a);
+      finer.insert(finer.end(), {{a, ab, ca}, {b, bc, ab}, {c, ca, bc}, {ab, bc, ca}});
+    }
+    faces = std::move(finer);
+  }
+  MeshData mesh;
+  const std::size_t n = spheres.count();
+  mesh.positions.reserve(3 * n * unit.size());
+  mesh.normals.reserve(3 * n * unit.size());
+  mesh.indices.reserve(3 * n * faces.size());
+  if (!spheres.colors.empty()) mesh.vertex_colors.reserve(4 * n * unit.size());
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec3f center{spheres.positions[3 * i], spheres.positions[3 * i + 1], spheres.positions[3 * i + 2]};
+    const float r = spheres.radii.empty() ? spheres.radius : spheres.radii[i];
+    const auto first = static_cast<std::uint32_t>(mesh.vertex_count());
+    for (const Vec3f& v : unit) {
+      const Vec3f p = center + v * r;
+      mesh.positions.insert(mesh.positions.end(), {p.x, p.y, p.z});
+      mesh.normals.insert(mesh.normals.end(), {v.x, v.y, v.z});
+      if (!spheres.colors.empty())
+        mesh.vertex_colors.insert(mesh.vertex_colors.end(), &spheres.colors[4 * i], &spheres.colors[4 * i] + 4);
+    }
+    for (const auto& f : faces) mesh.indices.insert(mesh.indices.end(), {first + f[0], first + f[1], first + f[2]});
+  }
+  return mesh;
+}
+
+/// Streamlines of the ABC (Arnold–Beltrami–Childress) flow, a steady chaotic field often
+/// used for flow visualization, traced with RK4 from `lines` seeds of a 2π-periodic cell:
+/// round linear curves of `points` vertices each, coloured by speed.
+inline CurveData streamlines(std::size_t lines, std::size_t points, float radius = 0.02f) {
+  constexpr float A = 1.f, B = 0.7f, C = 0.43f;
+  const auto velocity = [](const Vec3f& p) {
+    return Vec3f{A * std::sin(p.z) + C * std::cos(p.y), B * std::sin(p.x) + A * std::cos(p.z),
+                 C * std::sin(p.y) + B * std::cos(p.x)};
+  };
+  CurveData curves;
+  curves.position_radius.reserve(4 * lines * points);
+  curves.colors.reserve(4 * lines * points);
+  constexpr float step = 0.05f;
+  for (std::size_t line = 0; line < lines; ++line) {
+    Vec3f p = Vec3f{hash_uniform(3 * line), hash_uniform(3 * line + 1), hash_uniform(3 * line + 2)} *
+              (2.f * std::numbers::pi_v<float>);
+    const auto first = static_cast<std::uint32_t>(curves.vertex_count());
+    for (std::size_t k = 0; k < points; ++k) {
+      const Vec3f v = velocity(p);
+      curves.position_radius.insert(curves.position_radius.end(), {p.x, p.y, p.z, radius});
+      const Vec3f c = colormap(length(v) / 2.2f);
+      curves.colors.insert(curves.colors.end(), {c.x, c.y, c.z, 1.f});
+      const Vec3f k1 = v, k2 = velocity(p + k1 * (step / 2)), k3 = velocity(p + k2 * (step / 2)),
+                  k4 = velocity(p + k3 * step);
+      p += (k1 + k2 * 2.f + k3 * 2.f + k4) * (step / 6);
+    }
+    for (std::uint32_t s = 0; s + 1 < points; ++s) curves.indices.push_back(first + s);
+  }
+  return curves;
+}
+
 /// The Cornell box (the Cornell program's published dimensions, in mm: a 555 mm cube
 /// open at the front, red left wall, green right wall, a short and a tall block, the
 /// light patch under the ceiling) as a quad mesh with per-face colours.
@@ -131,22 +245,36 @@ inline PerspectiveCamera cornell_box_camera(float aspect = 1.f) {
 }
 
 /// A standard scene by name: "torus_1M", "torus_5M", "torus_20M" (displaced tori of that
-/// many triangles), "cornell_box", or a real mesh of the shared data ("bunny", "lucy",
-/// "horse", "turbineblade", "footbones") read from `data_dir`.
+/// many triangles), "cornell_box", "spheres_100k", "spheres_1M", "spheres_10M" (random
+/// spheres), "spheres_100k_mesh" (the 100k spheres tessellated, 80 triangles each),
+/// "streamlines" (2,000 ABC-flow streamlines of 500 points), or a real mesh of the shared
+/// data ("bunny", "lucy", "horse", "turbineblade", "footbones") read from `data_dir`.
 struct StandardScene {
-  MeshData mesh;
+  std::optional<MeshData> mesh;
+  std::optional<SphereData> spheres;
+  std::optional<CurveData> curves;
   std::optional<PerspectiveCamera> camera;  ///< empty: frame the bounds
 };
 
 inline StandardScene standard_scene(std::string_view name, const std::filesystem::path& data_dir = {}) {
-  if (name == "torus_1M") return {wavy_torus(1'000'000), std::nullopt};
-  if (name == "torus_5M") return {wavy_torus(5'000'000), std::nullopt};
-  if (name == "torus_20M") return {wavy_torus(20'000'000), std::nullopt};
-  if (name == "cornell_box") return {cornell_box(), cornell_box_camera()};
+  StandardScene scene;
+  if (name == "torus_1M") scene.mesh = wavy_torus(1'000'000);
+  else if (name == "torus_5M") scene.mesh = wavy_torus(5'000'000);
+  else if (name == "torus_20M") scene.mesh = wavy_torus(20'000'000);
+  else if (name == "cornell_box") scene.mesh = cornell_box(), scene.camera = cornell_box_camera();
+  else if (name == "spheres_100k") scene.spheres = random_spheres(100'000);
+  else if (name == "spheres_100k_mesh") scene.mesh = tessellate_spheres(random_spheres(100'000), 1);
+  else if (name == "spheres_1M") scene.spheres = random_spheres(1'000'000);
+  else if (name == "spheres_10M") scene.spheres = random_spheres(10'000'000);
+  else if (name == "streamlines") scene.curves = streamlines(2'000, 500);
   for (const char* real : {"bunny", "lucy", "horse", "turbineblade", "footbones"})
-    if (name == real) return {io::read_ply(data_dir / "meshes" / (std::string(name) + ".ply")), std::nullopt};
-  throw Error("unknown standard scene '" + std::string(name) +
-              "' (torus_1M, torus_5M, torus_20M, cornell_box, bunny, lucy, horse, turbineblade, footbones)");
+    if (name == real) scene.mesh = io::read_ply(data_dir / "meshes" / (std::string(name) + ".ply"));
+  if (!scene.mesh && !scene.spheres && !scene.curves)
+    throw Error("unknown standard scene '" + std::string(name) +
+                "' (torus_1M, torus_5M, torus_20M, cornell_box, spheres_100k, spheres_100k_mesh, spheres_1M, "
+                "spheres_10M, streamlines, bunny, lucy, "
+                "horse, turbineblade, footbones)");
+  return scene;
 }
 
 }  // namespace sciray::testing

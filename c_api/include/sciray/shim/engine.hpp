@@ -9,6 +9,9 @@
 
 #include "sciray/frame/framebuffer.hpp"
 #include "sciray/frame/render_frame.hpp"
+#include "sciray/geometry/boxes.hpp"
+#include "sciray/geometry/curves.hpp"
+#include "sciray/geometry/spheres.hpp"
 #include "sciray/geometry/triangle_mesh.hpp"
 #include "sciray/render/camera.hpp"
 #include "sciray/render/scivis.hpp"
@@ -20,7 +23,8 @@
 
 namespace sciray::shim {
 
-using MeshWorld = World<TriangleMesh>;
+/// The full set of geometry types, as the C API and the tool need it.
+using EngineWorld = World<TriangleMesh, Spheres, Curves, Boxes, Planes>;
 
 /// One ray's closest hit, as the packet paths report it (for cross-ISA checks).
 struct TraceResult {
@@ -28,13 +32,16 @@ struct TraceResult {
   float u, v;
   std::int32_t prim_id;
   std::int32_t geom_id;  ///< -1 where nothing was hit
+  std::int32_t inst_id;  ///< top-level id of the instance hit, -1 for direct geometry or no hit
 };
 
 struct IsaKernels {
   simd::Isa isa;
+  /// Builds the world's BVH with sciray's own intersectors compiled for this ISA.
+  void (*commit)(EngineWorld& world);
   /// Renders one frame with the scivis renderer into `fb` (accumulating); `control`
   /// (optional) reports progress and cancels.
-  void (*render_scivis)(const MeshWorld& world, const SciVisParams& params, const Camera& camera, FrameBuffer& fb,
+  void (*render_scivis)(const EngineWorld& world, const SciVisParams& params, const Camera& camera, FrameBuffer& fb,
                         FrameControl* control);
   /// Traces arbitrary rays in packets of this ISA's width.
   void (*trace)(RTCScene scene, std::span<const Ray<float>> rays, std::span<TraceResult> results);
