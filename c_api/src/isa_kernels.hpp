@@ -23,7 +23,7 @@ void render_scivis(const EngineWorld& world, const SciVisParams& params, const C
 }
 
 template <class Arch>
-void trace(RTCScene scene, std::span<const Ray<float>> rays, std::span<TraceResult> results) {
+void trace(const EngineWorld& world, std::span<const Ray<float>> rays, std::span<TraceResult> results) {
   using F = simd::Float<Arch>;
   constexpr int W = simd::width<Arch>;
   const float inf = std::numeric_limits<float>::infinity();
@@ -41,7 +41,8 @@ void trace(RTCScene scene, std::span<const Ray<float>> rays, std::span<TraceResu
     ray.tnear = simd::load<Arch>(lanes[6]);
     ray.tfar = simd::load<Arch>(lanes[7]);
     const F active_lanes = simd::lane_index<Arch>();
-    const auto hit = accel::intersect<Arch>(scene, ray, active_lanes < F(static_cast<float>(count)), false);
+    const auto hit = accel::intersect<Arch>(world.scene(), ray, active_lanes < F(static_cast<float>(count)), false,
+                                           world.hit_filter());
     for (int i = 0; i < count; ++i) {
       const bool lane_hit = simd::lane(hit.hit, i);
       results[first + i] = {lane_hit ? simd::lane(hit.t, i) : inf, simd::lane(hit.u, i), simd::lane(hit.v, i),

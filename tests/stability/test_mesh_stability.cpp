@@ -80,7 +80,7 @@ TEST_CASE("rays exactly through shared edges of a closed mesh do not slip throug
     world.add(TriangleMesh(torus));
     world.commit();
     std::vector<shim::TraceResult> hits(rays.size());
-    shim::kernels(isa).trace(world.scene(), rays, hits);
+    shim::kernels(isa).trace(world, rays, hits);
     std::size_t count = 0;
     for (std::size_t i = first; i < last; ++i) count += !(hits[i].geom_id >= 0 && hits[i].t <= 2.f * (1.f + 1e-5f));
     return count;
@@ -157,7 +157,7 @@ TEST_CASE("degenerate triangles neither crash nor produce NaN nor steal hits", "
       rays.push_back(r);
     }
     std::vector<shim::TraceResult> hits(rays.size());
-    shim::kernels(isa).trace(world.scene(), rays, hits);
+    shim::kernels(isa).trace(world, rays, hits);
     for (const auto& h : hits) {
       CHECK(h.geom_id == 0);
       CHECK(h.prim_id < 2);

@@ -100,7 +100,7 @@ void check_methods(const std::vector<Ray<float>>& rays, const Vec3f& center, flo
       world.add(Spheres(data).set_intersector(intersector));
       shim::kernels(isa).commit(world);
       std::vector<shim::TraceResult> results(rays.size());
-      shim::kernels(isa).trace(world.scene(), rays, results);
+      shim::kernels(isa).trace(world, rays, results);
       for (std::size_t i = 0; i < rays.size(); ++i) t[i] = results[i].t;
       const Score s = score(rays, t, center, radius);
       const bool own = intersector == SphereIntersector::sciray;
@@ -163,7 +163,7 @@ TEST_CASE("a sphere far from the origin seen from close by", "[stability][sphere
   const auto& kernels = shim::kernels(shim::select_isa());
   kernels.commit(world);
   std::vector<shim::TraceResult> results(rays.size());
-  kernels.trace(world.scene(), rays, results);
+  kernels.trace(world, rays, results);
   for (std::size_t i = 0; i < rays.size(); ++i) t[i] = results[i].t;
   const Score s = score(rays, t, center, 1.f);
   INFO(s.wrong << " wrong, worst " << s.worst_ulps << " ulps of " << s.hits << " hits");

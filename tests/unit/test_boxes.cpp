@@ -27,7 +27,7 @@ std::vector<shim::TraceResult> trace(simd::Isa isa, G geometry, const std::vecto
   world.add(std::move(geometry));
   shim::kernels(isa).commit(world);
   std::vector<shim::TraceResult> results(rays.size());
-  shim::kernels(isa).trace(world.scene(), rays, results);
+  shim::kernels(isa).trace(world, rays, results);
   return results;
 }
 

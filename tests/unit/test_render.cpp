@@ -76,14 +76,14 @@ TEST_CASE("every ISA finds the hits the scalar path finds", "[render][simd]") {
   const BunnyScene scene;
   const auto rays = random_rays(scene.world.bounds(), 20'000);
   std::vector<shim::TraceResult> reference(rays.size()), packet(rays.size());
-  shim::kernels(simd::Isa::scalar).trace(scene.world.scene(), rays, reference);
+  shim::kernels(simd::Isa::scalar).trace(scene.world, rays, reference);
   std::size_t hits = 0;
   for (const auto& r : reference) hits += r.geom_id >= 0;
   REQUIRE(hits > rays.size() / 10);
 
   for (auto isa : supported_packet_isas()) {
     INFO("ISA " << simd::isa_name(isa));
-    shim::kernels(isa).trace(scene.world.scene(), rays, packet);
+    shim::kernels(isa).trace(scene.world, rays, packet);
     // Embree's packet and single-ray kernels use the same watertight test, so hits must
     // agree exactly in which primitive they find and to float rounding in distance.
     std::size_t mismatches = 0;

@@ -85,7 +85,7 @@ TEST_CASE("both sphere intersectors on every ISA find the analytic nearest spher
       world.add(Spheres(data).set_intersector(intersector));
       shim::kernels(isa).commit(world);
       std::vector<shim::TraceResult> got(rays.size());
-      shim::kernels(isa).trace(world.scene(), rays, got);
+      shim::kernels(isa).trace(world, rays, got);
       std::size_t wrong_sphere = 0, worst_ulps = 0;
       for (std::size_t i = 0; i < rays.size(); ++i) {
         if (got[i].prim_id != expected[i].prim_id) {
@@ -118,7 +118,7 @@ TEST_CASE("discs face the ray; oriented discs face their normal", "[spheres]") {
     const auto& kernels = shim::kernels(shim::select_isa());
     kernels.commit(world);
     std::vector<shim::TraceResult> result(1);
-    kernels.trace(world.scene(), {&ray, 1}, result);
+    kernels.trace(world, {&ray, 1}, result);
     return result[0];
   };
   for (auto intersector : {SphereIntersector::sciray, SphereIntersector::embree}) {
@@ -212,7 +212,7 @@ TEST_CASE("a round linear tube is hit where the cylinder is", "[curves]") {
     std::vector<Ray<float>> rays;
     for (float y : {0.f, 0.1f, 0.2f, 0.3f}) rays.push_back({{0.5f, y, -2.f}, {0.f, 0.f, 1.f}});
     std::vector<shim::TraceResult> got(rays.size());
-    shim::kernels(isa).trace(world.scene(), rays, got);
+    shim::kernels(isa).trace(world, rays, got);
     for (int k = 0; k < 3; ++k) {
       const float y = rays[k].org.y;
       CHECK(got[k].t == Approx(2.f - std::sqrt(0.25f * 0.25f - y * y)).epsilon(1e-4));

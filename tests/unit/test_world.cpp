@@ -55,7 +55,7 @@ TEST_CASE("instances of one group are hit where their transforms put them", "[wo
                                        {{4.5f, 0.f, -5.f}, {0.f, 0.f, 1.f}}, {{0.f, 6.f, -5.f}, {0.f, 0.f, 1.f}},
                                        {{0.f, 3.f, -5.f}, {0.f, 0.f, 1.f}}};
     std::vector<shim::TraceResult> got(rays.size());
-    shim::kernels(isa).trace(world.scene(), rays, got);
+    shim::kernels(isa).trace(world, rays, got);
     // Instances take the top-level ids after the direct geometries.
     CHECK(got[0].inst_id == 1);
     CHECK(got[0].t == Approx(4.f));

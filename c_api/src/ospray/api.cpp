@@ -537,7 +537,7 @@ void ospPick(OSPPickResult* result, OSPFrameBuffer fb, OSPRenderer renderer, OSP
     FrameInputs in = frame_inputs(fb, renderer, camera, world);
     const Ray<float> ray = std::visit([&](const auto& c) { return sciray::prepare(c).generate(x, y); }, in.camera->camera());
     shim::TraceResult hit;
-    in.world->kernels->trace(in.world->world->scene(), std::span(&ray, 1), std::span(&hit, 1));
+    in.world->kernels->trace(*in.world->world, std::span(&ray, 1), std::span(&hit, 1));
     if (hit.geom_id < 0) return;
     const auto& origin = in.world->origins.at(static_cast<std::size_t>(hit.geom_id));
     const Vec3f p = ray.org + ray.dir * hit.t;

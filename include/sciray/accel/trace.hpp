@@ -3,6 +3,7 @@
 // rtcOccluded4/8/16 (SoA structures filled straight from the lane registers); the
 // scalar path uses rtcIntersect1 / rtcOccluded1.
 #include <cstdint>
+#include <type_traits>
 
 #include <embree3/rtcore.h>
 
@@ -81,22 +82,52 @@ void store_ray(EmbreeRay& out, const Ray<simd::Float<Arch>>& ray) {
   }
 }
 
-inline RTCIntersectContext make_context(bool coherent) {
-  RTCIntersectContext context;
-  rtcInitIntersectContext(&context);
-  context.flags = coherent ? RTC_INTERSECT_CONTEXT_FLAG_COHERENT : RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
+}  // namespace detail
+
+/// An extra test every candidate hit must pass before it counts (clipping): Embree's
+/// context filter function, and what it reads. Scenes traced with one must have been
+/// built with RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION.
+struct HitFilter {
+  RTCFilterFunctionN function = nullptr;
+  const void* data = nullptr;
+
+  /// The data of the filter that runs for `context` (the one given to intersect).
+  static const void* data_of(const RTCIntersectContext* context);
+};
+
+namespace detail {
+
+/// Embree's context with the data of a context filter behind it: a filter function
+/// receives the RTCIntersectContext pointer and casts back to reach `filter_data`.
+struct Context {
+  RTCIntersectContext embree;
+  const void* filter_data;
+};
+static_assert(std::is_standard_layout_v<Context>);
+
+inline Context make_context(bool coherent, const HitFilter& filter) {
+  Context context;
+  rtcInitIntersectContext(&context.embree);
+  context.embree.flags = coherent ? RTC_INTERSECT_CONTEXT_FLAG_COHERENT : RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
+  context.embree.filter = filter.function;
+  context.filter_data = filter.data;
   return context;
 }
 
 }  // namespace detail
 
+inline const void* HitFilter::data_of(const RTCIntersectContext* context) {
+  return reinterpret_cast<const detail::Context*>(context)->filter_data;
+}
+
 /// Closest hit for each active lane. `coherent` tells Embree the rays are primary-like.
 template <class Arch>
 Hit<Arch> intersect(RTCScene scene, const Ray<simd::Float<Arch>>& ray, const simd::Mask<Arch>& active,
-                    bool coherent = true) {
+                    bool coherent = true, const HitFilter& filter = {}) {
   using F = simd::Float<Arch>;
   using I = simd::Int<Arch>;
-  RTCIntersectContext context = detail::make_context(coherent);
+  detail::Context context_storage = detail::make_context(coherent, filter);
+  RTCIntersectContext& context = context_storage.embree;
   Hit<Arch> hit;
   if constexpr (std::is_same_v<Arch, simd::scalar>) {
     RTCRayHit rh;
@@ -140,9 +171,10 @@ Hit<Arch> intersect(RTCScene scene, const Ray<simd::Float<Arch>>& ray, const sim
 /// Whether anything blocks each active lane between tnear and tfar.
 template <class Arch>
 simd::Mask<Arch> occluded(RTCScene scene, const Ray<simd::Float<Arch>>& ray, const simd::Mask<Arch>& active,
-                          bool coherent = false) {
+                          bool coherent = false, const HitFilter& filter = {}) {
   using F = simd::Float<Arch>;
-  RTCIntersectContext context = detail::make_context(coherent);
+  detail::Context context_storage = detail::make_context(coherent, filter);
+  RTCIntersectContext& context = context_storage.embree;
   if constexpr (std::is_same_v<Arch, simd::scalar>) {
     RTCRay r{ray.org.x, ray.org.y, ray.org.z, ray.tnear, ray.dir.x, ray.dir.y, ray.dir.z, 0.f, ray.tfar,
              ~0u, 0u, 0u};

@@ -34,7 +34,7 @@ public:
       : world_(&world), params_(params), to_light_(-normalize(params.light_direction)) {}
 
   PixelSample<Arch> render(const Ray<F>& ray, const M& active) const {
-    const auto hit = accel::intersect<Arch>(world_->scene(), ray, active, true);
+    const auto hit = accel::intersect<Arch>(world_->scene(), ray, active, true, world_->hit_filter());
     PixelSample<Arch> out;
     out.color = Vec3<F>(params_.background_color);
     out.alpha = F(params_.background_alpha);

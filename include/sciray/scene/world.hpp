@@ -21,9 +21,11 @@
 #include <vector>
 
 #include "sciray/accel/embree.hpp"
+#include "sciray/accel/trace.hpp"
 #include "sciray/error.hpp"
 #include "sciray/math/affine.hpp"
 #include "sciray/math/box.hpp"
+#include "sciray/scene/clipping.hpp"
 #include "sciray/simd/packet.hpp"
 
 namespace sciray {
@@ -71,6 +73,13 @@ public:
   /// effect at the next commit.
   void set_robust(bool robust) { robust_ = robust; }
 
+  /// Whether queries may carry a context filter (clipping); a world with clipping sets it
+  /// on its groups. Takes effect at the next commit.
+  void set_context_filter(bool enabled) {
+    if (enabled != context_filter_) context_filter_ = enabled, committed_ = false;
+  }
+  bool context_filter() const { return context_filter_; }
+
   bool committed() const { return committed_; }
   RTCScene scene() const { return scene_.get(); }
   const accel::Device& device() const { return *device_; }
@@ -99,7 +108,8 @@ protected:
   void configure(accel::Scene& scene) const {
     // Embree's default traversal lets rays exactly through a shared edge slip between the
     // two triangles (tests/stability); robust mode closes edges at no measured cost.
-    if (robust_) rtcSetSceneFlags(scene.get(), RTC_SCENE_FLAG_ROBUST);
+    rtcSetSceneFlags(scene.get(), (robust_ ? RTC_SCENE_FLAG_ROBUST : RTC_SCENE_FLAG_NONE) |
+                                      (context_filter_ ? RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION : RTC_SCENE_FLAG_NONE));
   }
 
   /// Attaches every geometry to `scene` with ids first_id, first_id + 1, ...
@@ -121,6 +131,7 @@ protected:
   accel::Scene scene_;
   Box3f bounds_;
   bool committed_ = false;
+  bool context_filter_ = false;
 
 private:
   struct Ref {
@@ -180,6 +191,19 @@ public:
     return static_cast<std::uint32_t>(instances_.size() - 1);
   }
 
+  /// Clipping geometry for the whole world (scene/clipping.hpp), or null for none. Takes
+  /// effect at commit.
+  void set_clipping(std::shared_ptr<Clipping> clipping) {
+    clipping_ = std::move(clipping);
+    this->committed_ = false;
+  }
+
+  /// What every query of this world passes to Embree: the clipping test, if any.
+  accel::HitFilter hit_filter() const {
+    if (!clipping_ || clipping_->empty()) return {};
+    return {&World::clip_filter, this};
+  }
+
   std::size_t instance_count() const { return instances_.size(); }
   const Affine3f& instance_transform(std::uint32_t instance) const { return instances_.at(instance).transform; }
 
@@ -187,6 +211,9 @@ public:
   /// instances.
   template <class Arch = xsimd::default_arch>
   void commit() {
+    const bool clipped = clipping_ && !clipping_->empty();
+    if (clipped) clipping_->commit(*this->device_);
+    this->set_context_filter(clipped);
     accel::Scene scene(*this->device_);
     this->configure(scene);
     this->bounds_ = {};
@@ -194,6 +221,7 @@ public:
     const auto first_instance = static_cast<std::uint32_t>(this->geometry_count());
     for (std::uint32_t i = 0; i < instances_.size(); ++i) {
       const Instance& instance = instances_[i];
+      instance.group->set_context_filter(clipped);
       if (!instance.group->committed()) instance.group->template commit<Arch>();
       accel::GeometryHandle handle(*this->device_, RTC_GEOMETRY_TYPE_INSTANCE);
       rtcSetGeometryInstancedScene(handle.get(), instance.group->scene());
@@ -239,7 +267,26 @@ private:
     std::shared_ptr<GroupType> group;
     Affine3f transform;
   };
+
+  /// Embree's context filter: rejects candidate hits inside a clipping volume. Instanced
+  /// candidates arrive in their group's space and are moved to the world's first.
+  static void clip_filter(const RTCFilterFunctionNArguments* args) {
+    const auto& world = *static_cast<const World*>(accel::HitFilter::data_of(args->context));
+    for (unsigned i = 0; i < args->N; ++i) {
+      if (!args->valid[i]) continue;
+      const float t = RTCRayN_tfar(args->ray, args->N, i);
+      Vec3f p{RTCRayN_org_x(args->ray, args->N, i) + t * RTCRayN_dir_x(args->ray, args->N, i),
+              RTCRayN_org_y(args->ray, args->N, i) + t * RTCRayN_dir_y(args->ray, args->N, i),
+              RTCRayN_org_z(args->ray, args->N, i) + t * RTCRayN_dir_z(args->ray, args->N, i)};
+      const unsigned instance = RTCHitN_instID(args->hit, args->N, i, 0);
+      if (instance != RTC_INVALID_GEOMETRY_ID)
+        p = world.instances_[instance - world.geometry_count()].transform.point(p);
+      if (world.clipping_->clipped(p)) args->valid[i] = 0;
+    }
+  }
+
   std::vector<Instance> instances_;
+  std::shared_ptr<Clipping> clipping_;
 };
 
 }  // namespace sciray

@@ -44,7 +44,7 @@ struct IsaKernels {
   void (*render_scivis)(const EngineWorld& world, const SciVisParams& params, const Camera& camera, FrameBuffer& fb,
                         FrameControl* control);
   /// Traces arbitrary rays in packets of this ISA's width.
-  void (*trace)(RTCScene scene, std::span<const Ray<float>> rays, std::span<TraceResult> results);
+  void (*trace)(const EngineWorld& world, std::span<const Ray<float>> rays, std::span<TraceResult> results);
 };
 
 /// The entry points of `isa`; throws if this CPU cannot run it.
