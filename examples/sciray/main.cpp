@@ -5,11 +5,14 @@
 //                 [--isa auto|avx512|avx2|sse4.2|scalar] [--threads N] [--frames N]
 //                 [-o out.png|out.pfm] [--depth depth.pfm] [--json]
 //                 [--style ball-and-stick|space-filling] [--sphere-intersector sciray|embree]
+//                 [--clip-plane a,b,c,d]... [--clip-sphere x,y,z,r]...
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
 #include <optional>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -81,8 +84,33 @@ struct RenderOptions {
   std::string depth;
   bool json = false;
   std::string style = "ball-and-stick";
+  std::vector<std::string> clip_planes;   ///< "a,b,c,d" each
+  std::vector<std::string> clip_spheres;  ///< "x,y,z,r" each
   std::string sphere_intersector = "sciray";
 };
+
+/// `count` comma-separated numbers, as "--clip-plane 0,0,1,-0.5" gives them.
+std::vector<float> parse_floats(const std::string& text, std::size_t count, const char* option) {
+  std::vector<float> values;
+  std::stringstream in(text);
+  std::string item;
+  while (std::getline(in, item, ',')) {
+    std::size_t used = 0;
+    float v = 0.f;
+    try {
+      v = std::stof(item, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used == 0 || used != item.size() || !std::isfinite(v))
+      throw sciray::Error(std::string(option) + ": '" + item + "' is not a finite number");
+    values.push_back(v);
+  }
+  if (values.size() != count)
+    throw sciray::Error(std::string(option) + ": expected " + std::to_string(count) + " comma-separated numbers, got '" +
+                        text + "'");
+  return values;
+}
 
 sciray::SphereIntersector parse_intersector(const std::string& name) {
   if (name == "sciray") return sciray::SphereIntersector::sciray;
@@ -121,19 +149,37 @@ int render(const RenderOptions& opt) {
 
     sciray::accel::Device device;
     sciray::shim::EngineWorld world(device);
+    // The scene's geometry goes into the world, or into one group the world instances.
+    auto group = std::make_shared<sciray::shim::EngineWorld::GroupType>(device);
+    sciray::shim::EngineWorld::GroupType& target = scene.instances.empty() ? world : *group;
     std::size_t triangles = 0, vertices = 0, spheres = 0, curve_segments = 0;
     if (scene.mesh) {
       sciray::TriangleMesh mesh(std::move(*scene.mesh));
       triangles = mesh.triangle_count(), vertices = mesh.vertex_count();
-      world.add(std::move(mesh));
+      target.add(std::move(mesh));
     }
     if (scene.spheres) {
       spheres = scene.spheres->count();
-      world.add(sciray::Spheres(std::move(*scene.spheres)).set_intersector(parse_intersector(opt.sphere_intersector)));
+      target.add(sciray::Spheres(std::move(*scene.spheres)).set_intersector(parse_intersector(opt.sphere_intersector)));
     }
     if (scene.curves) {
       curve_segments = scene.curves->indices.size();
-      world.add(sciray::Curves(std::move(*scene.curves)));
+      target.add(sciray::Curves(std::move(*scene.curves)));
+    }
+    const std::size_t boxes = scene.boxes.size();
+    if (boxes) target.add(sciray::Boxes(std::move(scene.boxes), std::move(scene.box_colors)));
+    for (const auto& transform : scene.instances) world.add_instance(group, transform);
+    if (!opt.clip_planes.empty() || !opt.clip_spheres.empty()) {
+      auto clipping = std::make_shared<sciray::Clipping>();
+      for (const auto& plane : opt.clip_planes) {
+        const auto c = parse_floats(plane, 4, "--clip-plane");
+        clipping->add_plane({c[0], c[1], c[2]}, c[3]);
+      }
+      for (const auto& sphere : opt.clip_spheres) {
+        const auto c = parse_floats(sphere, 4, "--clip-sphere");
+        clipping->add_sphere({c[0], c[1], c[2]}, c[3]);
+      }
+      world.set_clipping(clipping);
     }
     start = Clock::now();
     kernels.commit(world);
@@ -177,13 +223,15 @@ int render(const RenderOptions& opt) {
               {"vertices", vertices},
               {"spheres", spheres},
               {"curve_segments", curve_segments},
+              {"boxes", boxes},
+              {"instances", world.instance_count()},
               {"sphere_intersector", opt.sphere_intersector},
               {"load_ms", load_ms},
               {"bvh_build_ms", build_ms},
               {"frame_ms", frame_ms},
               {"memory_bytes", {{"geometry", total_bytes - bvh_bytes}, {"bvh", bvh_bytes}, {"total", total_bytes}}},
               {"bytes_per_primitive",
-               static_cast<double>(total_bytes) / static_cast<double>(triangles + spheres + curve_segments)}};
+               static_cast<double>(total_bytes) / static_cast<double>(triangles + spheres + curve_segments + boxes)}};
   });
   if (opt.json) {
     std::cout << report.dump() << "\n";
@@ -234,6 +282,8 @@ int main(int argc, char** argv) {
   render_cmd->add_option("--depth", opt.depth, "also write Euclidean depth to this .pfm");
   render_cmd->add_flag("--json", opt.json, "print timings and sizes as one JSON object");
   render_cmd->add_option("--style", opt.style, "molecules: ball-and-stick or space-filling");
+  render_cmd->add_option("--clip-plane", opt.clip_planes, "a,b,c,d: clip where a*x+b*y+c*z+d < 0 (repeatable)");
+  render_cmd->add_option("--clip-sphere", opt.clip_spheres, "x,y,z,r: clip inside the sphere (repeatable)");
   render_cmd->add_option("--sphere-intersector", opt.sphere_intersector,
                          "sciray (own packet intersector) or embree (Embree's point geometry)");
 

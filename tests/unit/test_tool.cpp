@@ -125,6 +125,32 @@ TEST_CASE("sciray render: molecules as balls and sticks or space filling", "[too
   CHECK(filled_report["sphere_intersector"] == "embree");
 }
 
+TEST_CASE("sciray render: instances and clipping", "[tool][instancing][clipping]") {
+  const Run boxes = run_tool("render builtin:instanced_boxes --size 64x64 --json -o " + scratch("boxes.png").string());
+  INFO(boxes.output);
+  REQUIRE(boxes.exit_code == 0);
+  const auto report = nlohmann::json::parse(boxes.output);
+  CHECK(report["instances"] == 10000);
+  CHECK(report["boxes"] == 8);
+  // 10,000 instances of 8 boxes: the top-level BVH, about 100 bytes an instance.
+  CHECK(report["memory_bytes"]["total"].get<double>() < 10000 * 200);
+
+  // The bunny cut in half by a plane through its centre: the kept half's pixels only.
+  const auto whole = scratch("whole.pfm"), half = scratch("half.pfm");
+  const std::string bunny = "render " SCIRAY_DATA_DIR "/meshes/bunny.ply --size 64x64 -o ";
+  REQUIRE(run_tool(bunny + whole.string()).exit_code == 0);
+  const Run clipped = run_tool(bunny + half.string() + " --clip-plane 1,0,0,0.0168");
+  INFO(clipped.output);
+  REQUIRE(clipped.exit_code == 0);
+  const auto a = sciray::io::read_pfm(whole), b = sciray::io::read_pfm(half);
+  int covered_whole = 0, covered_half = 0;
+  const float background = a.at(0, 0, 0);
+  for (int y = 0; y < 64; ++y)
+    for (int x = 0; x < 64; ++x) covered_whole += a.at(x, y, 0) != background, covered_half += b.at(x, y, 0) != background;
+  CHECK(covered_half < covered_whole * 3 / 4);
+  CHECK(covered_half > covered_whole / 4);
+}
+
 TEST_CASE("sciray reports bad input clearly", "[tool][errors]") {
   const auto truncated = scratch("truncated.ply");
   {
@@ -153,6 +179,9 @@ TEST_CASE("sciray reports bad input clearly", "[tool][errors]") {
       {"render " SCIRAY_DATA_DIR "/molecules/2LYZ.pdb --style cartoon", "unknown molecule style 'cartoon'"},
       {"render " SCIRAY_DATA_DIR "/molecules/2LYZ.pdb --sphere-intersector naive", "--sphere-intersector"},
       {"render " + truncated_pdb.string(), "truncated.pdb: line"},
+      {"render --size 8x8 --clip-plane 1,0,0", "--clip-plane: expected 4 comma-separated numbers"},
+      {"render --size 8x8 --clip-sphere 0,0,0,x", "--clip-sphere: 'x' is not a finite number"},
+      {"render --size 8x8 --clip-sphere 0,0,0,-1", "positive radius"},
   };
   for (const auto& [arguments, expected] : cases) {
     const Run run = run_tool(arguments);

@@ -18,10 +18,12 @@
 #include <string_view>
 
 #include "sciray/error.hpp"
+#include "sciray/geometry/boxes.hpp"
 #include "sciray/geometry/curves.hpp"
 #include "sciray/geometry/mesh_data.hpp"
 #include "sciray/geometry/spheres.hpp"
 #include "sciray/io/ply.hpp"
+#include "sciray/math/affine.hpp"
 #include "sciray/math/vec.hpp"
 #include "sciray/render/camera.hpp"
 
@@ -247,14 +249,32 @@ inline PerspectiveCamera cornell_box_camera(float aspect = 1.f) {
 /// A standard scene by name: "torus_1M", "torus_5M", "torus_20M" (displaced tori of that
 /// many triangles), "cornell_box", "spheres_100k", "spheres_1M", "spheres_10M" (random
 /// spheres), "spheres_100k_mesh" (the 100k spheres tessellated, 80 triangles each),
-/// "streamlines" (2,000 ABC-flow streamlines of 500 points), or a real mesh of the shared
-/// data ("bunny", "lucy", "horse", "turbineblade", "footbones") read from `data_dir`.
+/// "streamlines" (2,000 ABC-flow streamlines of 500 points), "instanced_boxes" (a group
+/// of 8 boxes placed 10,000 times), "instanced_torus" (the 1M-triangle torus placed
+/// 10,000 times), or a real mesh of the shared data ("bunny", "lucy", "horse",
+/// "turbineblade", "footbones") read from `data_dir`.
 struct StandardScene {
   std::optional<MeshData> mesh;
   std::optional<SphereData> spheres;
   std::optional<CurveData> curves;
+  std::vector<Box3f> boxes;
+  std::vector<float> box_colors;
+  /// Empty: the geometry is placed directly. Otherwise it forms one group, placed once
+  /// per transform.
+  std::vector<Affine3f> instances;
   std::optional<PerspectiveCamera> camera;  ///< empty: frame the bounds
 };
+
+/// A 100 × 100 grid of transforms spaced `spacing` apart, each turned about y by a
+/// different angle.
+inline std::vector<Affine3f> instance_grid(float spacing) {
+  std::vector<Affine3f> transforms;
+  for (int i = 0; i < 10'000; ++i) {
+    const float angle = 6.2831853f * hash_uniform(0xB0C5 + i), c = std::cos(angle), s = std::sin(angle);
+    transforms.push_back({{c, 0, -s}, {0, 1, 0}, {s, 0, c}, {spacing * (i % 100), 0.f, spacing * (i / 100)}});
+  }
+  return transforms;
+}
 
 inline StandardScene standard_scene(std::string_view name, const std::filesystem::path& data_dir = {}) {
   StandardScene scene;
@@ -267,12 +287,22 @@ inline StandardScene standard_scene(std::string_view name, const std::filesystem
   else if (name == "spheres_1M") scene.spheres = random_spheres(1'000'000);
   else if (name == "spheres_10M") scene.spheres = random_spheres(10'000'000);
   else if (name == "streamlines") scene.curves = streamlines(2'000, 500);
+  else if (name == "instanced_torus") scene.mesh = wavy_torus(1'000'000), scene.instances = instance_grid(3.f);
+  else if (name == "instanced_boxes") {
+    for (int k = 0; k < 8; ++k) {
+      const Vec3f corner{0.6f * (k & 1), 0.6f * ((k >> 1) & 1) + 0.3f * (k & 1), 0.6f * (k >> 2)};
+      scene.boxes.push_back({corner, corner + Vec3f{0.4f, 0.25f + 0.1f * k, 0.4f}});
+      const Vec3f c = colormap(k / 7.f);
+      scene.box_colors.insert(scene.box_colors.end(), {c.x, c.y, c.z, 1.f});
+    }
+    scene.instances = instance_grid(1.6f);
+  }
   for (const char* real : {"bunny", "lucy", "horse", "turbineblade", "footbones"})
     if (name == real) scene.mesh = io::read_ply(data_dir / "meshes" / (std::string(name) + ".ply"));
-  if (!scene.mesh && !scene.spheres && !scene.curves)
+  if (!scene.mesh && !scene.spheres && !scene.curves && scene.boxes.empty())
     throw Error("unknown standard scene '" + std::string(name) +
                 "' (torus_1M, torus_5M, torus_20M, cornell_box, spheres_100k, spheres_100k_mesh, spheres_1M, "
-                "spheres_10M, streamlines, bunny, lucy, "
+                "spheres_10M, streamlines, instanced_boxes, instanced_torus, bunny, lucy, "
                 "horse, turbineblade, footbones)");
   return scene;
 }
