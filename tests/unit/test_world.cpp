@@ -4,6 +4,7 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <cstdlib>
 #include <memory>
 #include <vector>
 
@@ -129,4 +130,49 @@ TEST_CASE("10,000 instances of a 1M-triangle group cost about one copy", "[world
   CHECK(one_copy > 1'000'000 * 50);  // the torus and its BVH
   CHECK(added < one_copy / 10);
   CHECK(many.bounds().upper.x > 290.f);
+}
+
+TEST_CASE("a scene of every geometry type, instanced and clipped, matches its reference", "[world][reference]") {
+  accel::Device device;
+  shim::EngineWorld world(device);
+  // A floor plane bounded to a square, boxes standing on it, a molecule-like cluster of
+  // spheres instanced three times, a tube, and a clipping sphere cutting into a box.
+  world.add(Planes({{0.f, 1.f, 0.f, 0.f}}, {Box3f{{-3.f, -0.01f, -3.f}, {3.f, 0.01f, 3.f}}}, {0.7f, 0.7f, 0.7f, 1.f}));
+  world.add(Boxes({Box3f{{-2.5f, 0.f, -2.5f}, {-1.f, 1.5f, -1.f}}, Box3f{{1.f, 0.f, -2.f}, {2.f, 0.8f, -1.f}}},
+                  {0.8f, 0.3f, 0.2f, 1.f, 0.2f, 0.4f, 0.8f, 1.f}));
+  CurveData tube;
+  tube.position_radius = {-2.5f, 0.3f, 1.5f, 0.15f, 0.f, 1.2f, 2.f, 0.15f, 2.5f, 0.3f, 1.5f, 0.15f};
+  tube.indices = {0, 1};
+  tube.colors = {1, 0.8f, 0, 1, 0, 0.8f, 0.4f, 1, 0.6f, 0, 0.8f, 1};
+  world.add(Curves(tube));
+  auto cluster = std::make_shared<shim::EngineWorld::GroupType>(device);
+  SphereData spheres = testing::random_spheres(40, 11);
+  for (float& r : spheres.radii) r *= 2.f;
+  cluster->add(Spheres(spheres));
+  for (int i = 0; i < 3; ++i)
+    world.add_instance(cluster, rotate_scale_translate({0.f, 1.f, 0.f}, 40.f * i, 0.9f, {-1.6f + 1.6f * i, 0.1f, 0.6f}));
+  auto clipping = std::make_shared<Clipping>();
+  clipping->add_sphere({-1.75f, 0.9f, -1.f}, 0.55f);
+  world.set_clipping(clipping);
+  const auto& kernels = shim::kernels(shim::select_isa());
+  kernels.commit(world);
+
+  SciVisParams params;
+  params.background_color = {0.1f, 0.1f, 0.12f};
+  params.background_alpha = 1.f;
+  params.light_direction = {0.4f, -0.8f, -0.5f};
+  PerspectiveCamera camera;
+  camera.position = {0.f, 5.5f, 6.f};
+  camera.direction = Vec3f{0.f, 0.6f, 0.f} - camera.position;
+  camera.fovy = 45.f;
+  camera.aspect = 200.f / 150.f;
+  FrameBuffer framed(200, 150, ColorFormat::srgba);
+  kernels.render_scivis(world, params, camera, framed, nullptr);
+  const std::string reference = SCIRAY_REFERENCE_DIR "/every_type_scivis.png";
+  if (std::getenv("SCIRAY_UPDATE_REFERENCES")) io::write_color(framed, reference);
+  const auto diff = testing::compare_images(io::color_image(framed), io::read_png(reference), 2.5 / 255);
+  INFO(testing::describe(diff));
+  // The tolerance of every reference image (docs/accuracy.md).
+  CHECK(diff.rmse <= 0.005);
+  CHECK(diff.local_mean_error_max <= 0.02);
 }

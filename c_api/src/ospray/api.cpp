@@ -279,7 +279,8 @@ OSPCamera ospNewCamera(const char* type) {
 OSPGeometry ospNewGeometry(const char* type) {
   return guarded("ospNewGeometry", [&] {
     const std::string t = type_string(type);
-    if (t != "mesh" && t != "sphere" && t != "curve") unknown_type("geometry", t, "mesh, sphere, curve");
+    if (t != "mesh" && t != "sphere" && t != "curve" && t != "box" && t != "plane")
+      unknown_type("geometry", t, "mesh, sphere, curve, box, plane");
     return handle_of<OSPGeometry>(new Geometry(t));
   }, OSPGeometry{});
 }
@@ -472,9 +473,12 @@ FrameInputs frame_inputs(OSPFrameBuffer fb, OSPRenderer renderer, OSPCamera came
   if (!in.renderer->committed()) throw Error(in.renderer->name() + " has not been committed");
   if (!in.camera->committed()) throw Error(in.camera->name() + " has not been committed");
   if (!w.committed()) throw Error("world has not been committed");
-  std::vector<std::string> warnings;
-  in.world = w.built(device().kernels(), warnings);
-  for (const auto& message : warnings) device().warn(message);
+  Device& dev = device();
+  BuildLog log;
+  log.want_memory = dev.logs(OSP_LOG_DEBUG);  // memory_bytes walks every instance
+  in.world = w.built(dev.kernels(), log);
+  for (const auto& message : log.warnings) dev.warn(message);
+  for (const auto& message : log.debug) dev.status(OSP_LOG_DEBUG, message);
   return in;
 }
 }  // namespace
@@ -539,14 +543,16 @@ void ospPick(OSPPickResult* result, OSPFrameBuffer fb, OSPRenderer renderer, OSP
     shim::TraceResult hit;
     in.world->kernels->trace(*in.world->world, std::span(&ray, 1), std::span(&hit, 1));
     if (hit.geom_id < 0) return;
-    const auto& origin = in.world->origins.at(static_cast<std::size_t>(hit.geom_id));
+    const BuiltWorld::Origin origin = in.world->origin(hit.inst_id, hit.geom_id);
+    // Embree transforms the ray into the instance without renormalizing it, so t is the
+    // world ray's parameter too.
     const Vec3f p = ray.org + ray.dir * hit.t;
     result->hasHit = 1;
     result->worldPosition[0] = p.x, result->worldPosition[1] = p.y, result->worldPosition[2] = p.z;
     origin.instance->retain();
     origin.model->retain();
-    result->instance = handle_of<OSPInstance>(origin.instance.get());
-    result->model = handle_of<OSPGeometricModel>(origin.model.get());
+    result->instance = handle_of<OSPInstance>(origin.instance);
+    result->model = handle_of<OSPGeometricModel>(origin.model);
     result->primID = static_cast<uint32_t>(hit.prim_id);
   });
 }

@@ -32,6 +32,8 @@ public:
   /// Reports a warning through the status callback, or as an error with warnAsError.
   void warn(const std::string& message);
   void status(OSPLogLevel level, const std::string& message);
+  /// Whether messages of `level` reach the status callback.
+  bool logs(OSPLogLevel level) const { return status_cb_ && static_cast<int>(level) >= committed_.log_level; }
 
   OSPError last_error_code() const { return last_error_; }
   const char* last_error_message() const { return last_message_.c_str(); }

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <optional>
+#include <string>
 
 namespace sciray::ospray {
 
@@ -93,6 +95,10 @@ void Geometry::on_commit() {
     commit_spheres();
   else if (subtype() == "curve")
     commit_curves();
+  else if (subtype() == "box")
+    commit_boxes();
+  else if (subtype() == "plane")
+    commit_planes();
   else
     commit_mesh();
 }
@@ -243,6 +249,47 @@ void Geometry::commit_curves() {
   curves_ = std::move(data);
 }
 
+namespace {
+
+/// A box3f element: lower x, y, z, then upper x, y, z.
+Box3f read_box(const std::byte* p) {
+  Box3f b;
+  b.lower = {read_float(p), read_float(p + 4), read_float(p + 8)};
+  b.upper = {read_float(p + 12), read_float(p + 16), read_float(p + 20)};
+  return b;
+}
+
+}  // namespace
+
+void Geometry::commit_boxes() {
+  const Data* box = get_data(*this, find("box"), "box", {OSP_BOX3F});
+  if (!box) throw Error(name() + ": required parameter 'box' (array of box3f) is missing");
+  auto data = std::make_shared<BoxData>();
+  data->boxes = box->to_vector<Box3f>(read_box);
+  const Boxes check(data->boxes);
+  check.validate();  // "box: 'box' 1 is not a finite box with lower <= upper"
+  bounds_ = check.bounds();
+  primitive_count_ = check.count();
+  boxes_ = std::move(data);
+}
+
+void Geometry::commit_planes() {
+  const Data* coefficients = get_data(*this, find("plane.coefficients"), "plane.coefficients", {OSP_VEC4F});
+  if (!coefficients)
+    throw Error(name() + ": required parameter 'plane.coefficients' (array of vec4f) is missing");
+  const Data* bounds = get_data(*this, find("plane.bounds"), "plane.bounds", {OSP_BOX3F});
+  auto data = std::make_shared<PlaneData>();
+  data->planes = coefficients->to_vector<Planes::Plane>([](const std::byte* p) {
+    return Planes::Plane{read_float(p), read_float(p + 4), read_float(p + 8), read_float(p + 12)};
+  });
+  if (bounds) data->bounds = bounds->to_vector<Box3f>(read_box);
+  const Planes check(data->planes, data->bounds);
+  check.validate();  // "plane: 'plane.coefficients' 0 has a zero normal (a, b, c)"
+  bounds_ = check.bounds();  // unbounded planes add nothing
+  primitive_count_ = check.count();
+  planes_ = std::move(data);
+}
+
 void GeometricModel::on_commit() {
   // Read into locals: a commit that fails leaves the model as it was.
   Ref<Geometry> geometry = get_object<Geometry>("geometry", OSP_GEOMETRY, true);
@@ -327,21 +374,16 @@ void Instance::on_commit() {
     std::memcpy(m, p->bytes.data(), sizeof m);
     for (float v : m)
       if (!std::isfinite(v)) throw Error(name() + ": parameter 'transform' is not finite");
-    transform_ = {{m[0], m[1], m[2]}, {m[3], m[4], m[5]}, {m[6], m[7], m[8]}, {m[9], m[10], m[11]}};
-    if (dot(cross(transform_.vx, transform_.vy), transform_.vz) == 0.f)
-      throw Error(name() + ": parameter 'transform' is singular");
+    const Affine3f transform{{m[0], m[1], m[2]}, {m[3], m[4], m[5]}, {m[6], m[7], m[8]}, {m[9], m[10], m[11]}};
+    const float det = transform.determinant();
+    if (det == 0.f || !std::isfinite(det)) throw Error(name() + ": parameter 'transform' is singular");
+    transform_ = transform;
   }
 }
 
-Box3f Instance::bounds() const {
-  Box3f box;
-  const Box3f local = group_->bounds();
-  if (local.empty()) return box;
-  for (int k = 0; k < 8; ++k)
-    box.extend(transform_.point({k & 1 ? local.upper.x : local.lower.x, k & 2 ? local.upper.y : local.lower.y,
-                                 k & 4 ? local.upper.z : local.lower.z}));
-  return box;
-}
+// The transformed box of the group's bounds: the engine's instance is the exact
+// transform of the group, so this encloses it under any (also non-uniform) transform.
+Box3f Instance::bounds() const { return transform_.transform(group_->bounds()); }
 
 std::uint64_t Instance::version() const { return std::max(version_, group_ ? group_->version() : 0); }
 
@@ -390,141 +432,152 @@ Box3f World::bounds() const {
 
 namespace {
 
-/// The factor an instance transform scales radii by: the cube root of |det|, exact for
-/// uniform scale and an approximation otherwise (spheres stay spheres).
-float radius_scale(const Affine& xfm) { return std::cbrt(std::abs(dot(cross(xfm.vx, xfm.vy), xfm.vz))); }
+/// `colors` (RGBA per primitive, or empty) times the material colour `kd` if any, or `kd`
+/// alone for each of `count` primitives; empty when there is neither.
+std::vector<float> tinted_colors(const PaddedVector<float>& colors, const std::optional<Vec3f>& kd,
+                                 std::size_t count) {
+  std::vector<float> out(colors.begin(), colors.end());
+  if (!kd) return out;
+  if (out.empty()) out.assign(4 * count, 1.f);
+  for (std::size_t i = 0; 4 * i < out.size(); ++i) out[4 * i] *= kd->x, out[4 * i + 1] *= kd->y, out[4 * i + 2] *= kd->z;
+  return out;
+}
 
-Vec3f load3(const float* p) { return {p[0], p[1], p[2]}; }
-void store3(float* p, const Vec3f& v) { p[0] = v.x, p[1] = v.y, p[2] = v.z; }
-
-/// The mesh of `model` placed by `xfm`: shared when nothing changes, else a copy.
-TriangleMesh place_mesh(const GeometricModel& model, const Affine& xfm) {
-  std::shared_ptr<const MeshData> data = model.geometry()->mesh();
-  if (!xfm.identity() || !model.face_colors().empty()) {
-    // Until Embree instancing lands, a transformed instance holds its own copy.
-    auto copy = std::make_shared<MeshData>(*data);
-    for (std::size_t v = 0; v < copy->vertex_count(); ++v)
-      store3(&copy->positions[3 * v], xfm.point(load3(&copy->positions[3 * v])));
-    for (std::size_t v = 0; 3 * v < copy->normals.size(); ++v)
-      store3(&copy->normals[3 * v], xfm.normal(load3(&copy->normals[3 * v])));
-    if (!model.face_colors().empty()) copy->face_colors = model.face_colors();
-    data = std::move(copy);
-  }
+/// The mesh of `model`: the geometry's data shared; the model's per-face colours, if
+/// any, held by `keep_alive`.
+TriangleMesh model_mesh(const GeometricModel& model, std::vector<std::shared_ptr<const void>>& keep_alive) {
+  const std::shared_ptr<const MeshData>& data = model.geometry()->mesh();
   TriangleMesh mesh(data);
+  if (!model.face_colors().empty()) {
+    auto colors = std::make_shared<const PaddedVector<float>>(model.face_colors());
+    keep_alive.push_back(data);
+    keep_alive.push_back(colors);
+    TriangleMesh::SharedArrays arrays = mesh.arrays();
+    arrays.face_colors = {colors->data(), colors->size() / 4, 4 * sizeof(float)};
+    mesh = TriangleMesh::shared(arrays);
+  }
   if (const auto kd = model.material_color()) mesh.set_material_color(*kd);
   return mesh;
 }
 
-/// The spheres of `model` placed by `xfm`. They read the geometry's arrays in place; only
-/// what changes (transformed centres, radii and normals; colours) is new, and `keep_alive`
-/// holds it and the geometry's data for as long as the world exists.
-Spheres place_spheres(const GeometricModel& model, const Affine& xfm,
-                      std::vector<std::shared_ptr<const void>>& keep_alive) {
+/// The spheres of `model`. They read the geometry's arrays in place; only the colours
+/// (the model's per-sphere colours times kd, or kd alone) are new, and `keep_alive` holds
+/// them and the geometry's data.
+Spheres model_spheres(const GeometricModel& model, std::vector<std::shared_ptr<const void>>& keep_alive) {
   const Geometry& geometry = *model.geometry();
   const SphereData& d = *geometry.spheres();
   keep_alive.push_back(geometry.spheres());
   const std::size_t n = d.count();
-  const auto owned = [&](PaddedVector<float> values) {
-    auto held = std::make_shared<const PaddedVector<float>>(std::move(values));
-    keep_alive.push_back(held);
-    return held->data();
-  };
-
   Spheres::SharedArrays a;
   a.positions = {d.positions.data(), n, 3 * sizeof(float)};
   if (!d.radii.empty()) a.radii = {d.radii.data(), n, sizeof(float)};
   a.radius = d.radius;
   if (!d.normals.empty()) a.normals = {d.normals.data(), n, 3 * sizeof(float)};
-  if (!xfm.identity()) {
-    PaddedVector<float> centers(d.positions.size());
-    for (std::size_t i = 0; i < n; ++i) store3(&centers[3 * i], xfm.point(load3(&d.positions[3 * i])));
-    a.positions = {owned(std::move(centers)), n, 3 * sizeof(float)};
-    const float scale = radius_scale(xfm);
-    a.radius *= scale;
-    if (!d.radii.empty()) {
-      PaddedVector<float> radii(d.radii);
-      for (float& r : radii) r *= scale;
-      a.radii = {owned(std::move(radii)), n, sizeof(float)};
-    }
-    if (!d.normals.empty()) {
-      PaddedVector<float> normals(d.normals.size());
-      for (std::size_t i = 0; i < n; ++i) store3(&normals[3 * i], normalize(xfm.normal(load3(&d.normals[3 * i]))));
-      a.normals = {owned(std::move(normals)), n, 3 * sizeof(float)};
-    }
-  }
-  // Spheres have no material colour of their own: the model's per-sphere colours times
-  // kd, or kd alone, as a mesh shades its face colours.
-  const auto kd = model.material_color();
-  if (!model.face_colors().empty() || kd) {
-    PaddedVector<float> colors = model.face_colors();
-    if (colors.empty()) colors.assign(4 * n, 1.f);
-    if (kd)
-      for (std::size_t i = 0; 4 * i < colors.size(); ++i)
-        colors[4 * i] *= kd->x, colors[4 * i + 1] *= kd->y, colors[4 * i + 2] *= kd->z;
-    a.colors = {owned(std::move(colors)), model.face_colors().empty() ? n : model.face_colors().size() / 4,
-                4 * sizeof(float)};
+  // Spheres have no material colour of their own: kd multiplies the colours, as a mesh
+  // shades its face colours.
+  if (!model.face_colors().empty() || model.material_color()) {
+    auto colors = std::make_shared<PaddedVector<float>>();
+    const std::vector<float> tinted = tinted_colors(model.face_colors(), model.material_color(), n);
+    colors->assign(tinted.begin(), tinted.end());
+    a.colors = {colors->data(), colors->size() / 4, 4 * sizeof(float)};
+    keep_alive.push_back(std::move(colors));
   }
   Spheres spheres = Spheres::shared(a);
   spheres.set_type(geometry.sphere_type()).set_intersector(geometry.sphere_intersector());
   return spheres;
 }
 
-/// The curves of `model` placed by `xfm`: shared when nothing changes, else a copy with
-/// the control points transformed (radii scaled by radius_scale) and kd applied to the
-/// vertex colours.
-Curves place_curves(const GeometricModel& model, const Affine& xfm) {
+/// The curves of `model`: shared, or with kd a copy whose vertex colours it multiplies.
+Curves model_curves(const GeometricModel& model) {
   std::shared_ptr<const CurveData> data = model.geometry()->curves();
   const auto kd = model.material_color();
-  if (xfm.identity() && !kd) return Curves(data);
+  if (!kd) return Curves(data);
   auto copy = std::make_shared<CurveData>(*data);
-  if (!xfm.identity()) {
-    const float scale = radius_scale(xfm);
-    for (std::size_t v = 0; v < copy->vertex_count(); ++v) {
-      float* p = &copy->position_radius[4 * v];
-      store3(p, xfm.point(load3(p)));
-      p[3] *= scale;
-    }
-    for (std::size_t v = 0; 4 * v < copy->tangents.size(); ++v) {
-      float* t = &copy->tangents[4 * v];  // a derivative: transformed as a vector
-      store3(t, xfm.vector(load3(t)));
-      t[3] *= scale;
-    }
-    for (std::size_t v = 0; 3 * v < copy->normals.size(); ++v)
-      store3(&copy->normals[3 * v], normalize(xfm.normal(load3(&copy->normals[3 * v]))));
-  }
-  if (kd) {
-    if (copy->colors.empty()) copy->colors.assign(4 * copy->vertex_count(), 1.f);
-    for (std::size_t v = 0; 4 * v < copy->colors.size(); ++v)
-      copy->colors[4 * v] *= kd->x, copy->colors[4 * v + 1] *= kd->y, copy->colors[4 * v + 2] *= kd->z;
-  }
+  if (copy->colors.empty()) copy->colors.assign(4 * copy->vertex_count(), 1.f);
+  for (std::size_t v = 0; 4 * v < copy->colors.size(); ++v)
+    copy->colors[4 * v] *= kd->x, copy->colors[4 * v + 1] *= kd->y, copy->colors[4 * v + 2] *= kd->z;
   return Curves(std::shared_ptr<const CurveData>(std::move(copy)));
 }
 
 }  // namespace
 
-std::shared_ptr<const BuiltWorld> World::built(const shim::IsaKernels& kernels, std::vector<std::string>& warnings) {
+BuiltWorld::Origin BuiltWorld::origin(std::int32_t inst_id, std::int32_t geom_id) const {
+  // The C API places everything through instances: a world has no direct geometry.
+  const std::size_t first_instance = world->geometry_count();
+  if (inst_id < 0 || static_cast<std::size_t>(inst_id) < first_instance ||
+      static_cast<std::size_t>(inst_id) - first_instance >= instances.size())
+    throw Error("world: a hit reports instance id " + std::to_string(inst_id) + ", which the world does not have");
+  const PlacedInstance& placed = instances[static_cast<std::size_t>(inst_id) - first_instance];
+  const BuiltGroup& group = *groups[placed.group];
+  if (geom_id < 0 || static_cast<std::size_t>(geom_id) >= group.models.size())
+    throw Error("world: a hit reports geometry id " + std::to_string(geom_id) + ", which its group does not have");
+  return {placed.instance.get(), group.models[static_cast<std::size_t>(geom_id)].get()};
+}
+
+std::shared_ptr<const BuiltGroup> World::build_group(Group& group, const shim::IsaKernels& kernels) {
+  auto built = std::make_shared<BuiltGroup>();
+  built->device = device_;
+  built->source = &group;
+  built->version = group.version();
+  built->kernels = &kernels;
+  if (group.models().empty()) return built;
+  built->group = std::make_shared<shim::EngineWorld::GroupType>(*device_);
+  for (const auto& model : group.models()) {
+    const Geometry& geometry = *model->geometry();
+    if (geometry.spheres()) {
+      built->group->add(model_spheres(*model, built->keep_alive));
+    } else if (geometry.curves()) {
+      built->group->add(model_curves(*model));
+    } else if (geometry.boxes()) {
+      // Boxes and planes own their primitives with the model's colours.
+      const auto& data = *geometry.boxes();
+      built->group->add(
+          Boxes(data.boxes, tinted_colors(model->face_colors(), model->material_color(), data.boxes.size())));
+    } else if (geometry.planes()) {
+      const auto& data = *geometry.planes();
+      built->group->add(Planes(data.planes, data.bounds,
+                               tinted_colors(model->face_colors(), model->material_color(), data.planes.size())));
+    } else {
+      built->group->add(model_mesh(*model, built->keep_alive));
+    }
+    built->models.push_back(model);
+  }
+  // Committed with the world, through the kernels (sciray's intersectors are per ISA).
+  return built;
+}
+
+std::shared_ptr<const BuiltWorld> World::built(const shim::IsaKernels& kernels, BuildLog& log) {
   std::lock_guard lock(build_mutex_);
   const std::uint64_t current = version();
   if (built_ && built_->version == current && built_->kernels == &kernels) return built_;
 
+  if (!device_) device_ = std::make_shared<accel::Device>();
   auto built = std::make_shared<BuiltWorld>();
-  built->device = std::make_shared<accel::Device>();
+  built->device = device_;
   built->world = std::make_unique<shim::EngineWorld>(*built->device);
   built->kernels = &kernels;
+  std::map<const Group*, std::size_t> group_index;  // this build's groups, by OSPRay group
+  std::size_t reused = 0;
   for (const auto& instance : instances_) {
-    const Affine& xfm = instance->transform();
-    for (const auto& model : instance->group()->models()) {
-      const Geometry& geometry = *model->geometry();
-      if (geometry.spheres())
-        built->world->add(place_spheres(*model, xfm, built->keep_alive));
-      else if (geometry.curves())
-        built->world->add(place_curves(*model, xfm));
-      else
-        built->world->add(place_mesh(*model, xfm));
-      built->origins.push_back({instance, model});
+    Group* group = instance->group();
+    auto [at, added] = group_index.try_emplace(group, built->groups.size());
+    if (added) {
+      const auto cached = group_cache_.find(group);
+      if (cached != group_cache_.end() && cached->second->version == group->version() &&
+          cached->second->kernels == &kernels) {
+        built->groups.push_back(cached->second);  // its BVH carries over as it is
+        ++reused;
+      } else {
+        built->groups.push_back(build_group(*group, kernels));
+      }
     }
+    const BuiltGroup& placed = *built->groups[at->second];
+    if (!placed.group) continue;  // no geometry: nothing to place
+    built->world->add_instance(placed.group, instance->transform());
+    built->instances.push_back({instance, at->second});
   }
-  // Through the device's kernels: spheres register sciray's intersector compiled for its ISA.
+  // Through the device's kernels: builds the new groups (spheres register sciray's
+  // intersector compiled for its ISA), then the top-level BVH over the instances.
   kernels.commit(*built->world);
 
   // scivis takes ambient light plus one distant light.
@@ -543,11 +596,22 @@ std::shared_ptr<const BuiltWorld> World::built(const shim::IsaKernels& kernels, 
       lights.light_intensity = light->intensity();
       have_distant = true;
     } else {
-      warnings.push_back("world: only one distant light is used yet; further distant lights are ignored");
+      log.warnings.push_back("world: only one distant light is used yet; further distant lights are ignored");
     }
   }
+  // Only a successful build replaces the cache: groups no instance uses any more go.
+  group_cache_.clear();
+  for (const auto& [group, index] : group_index) group_cache_.emplace(group, built->groups[index]);
   built->version = current;
   built_ = built;
+
+  std::string summary = "world: built with " + std::to_string(instances_.size()) + " instances of " +
+                        std::to_string(built->groups.size()) + " groups (" +
+                        std::to_string(built->groups.size() - reused) + " built, " + std::to_string(reused) +
+                        " reused)";
+  // The device's total: a previous build a frame still holds counts too.
+  if (log.want_memory) summary += ", engine memory " + std::to_string(built->world->memory_bytes()) + " bytes";
+  log.debug.push_back(std::move(summary));
   return built_;
 }
 

@@ -1,14 +1,18 @@
 #pragma once
-// OSPRay's scene objects over sciray types: cameras, geometry (mesh, sphere, curve),
-// geometric models, groups, instances, worlds, lights, materials and renderers. Each reads its committed
-// parameters in on_commit and names the parameter when one is wrong.
+// OSPRay's scene objects over sciray types: cameras, geometry (mesh, sphere, curve, box,
+// plane), geometric models, groups, instances, worlds, lights, materials and renderers.
+// Each reads its committed parameters in on_commit and names the parameter when one is
+// wrong.
+#include <map>
 #include <memory>
 #include <mutex>
 
 #include "data.hpp"
+#include "sciray/geometry/boxes.hpp"
 #include "sciray/geometry/curves.hpp"
 #include "sciray/geometry/spheres.hpp"
 #include "sciray/geometry/triangle_mesh.hpp"
+#include "sciray/math/affine.hpp"
 #include "sciray/render/camera.hpp"
 #include "sciray/render/scivis.hpp"
 #include "sciray/shim/engine.hpp"
@@ -39,8 +43,21 @@ private:
   Vec3f kd_{0.8f, 0.8f, 0.8f};
 };
 
-/// OSPRay's `mesh`, `sphere` and `curve` geometry; exactly one of mesh(), spheres() and
-/// curves() is set once committed, according to the subtype.
+/// The primitives of OSPRay's `box` geometry, as committed.
+struct BoxData {
+  std::vector<Box3f> boxes;
+};
+
+/// The primitives of OSPRay's `plane` geometry, as committed: coefficients, and one
+/// bounding box per plane or none.
+struct PlaneData {
+  std::vector<Planes::Plane> planes;
+  std::vector<Box3f> bounds;
+};
+
+/// OSPRay's `mesh`, `sphere`, `curve`, `box` and `plane` geometry; exactly one of mesh(),
+/// spheres(), curves(), boxes() and planes() is set once committed, according to the
+/// subtype.
 class Geometry : public Object {
 public:
   explicit Geometry(std::string type) : Object(OSP_GEOMETRY, std::move(type)) {}
@@ -52,7 +69,12 @@ public:
   SphereIntersector sphere_intersector() const { return sphere_intersector_; }
   /// The curves as committed (owned, padded), or null.
   const std::shared_ptr<const CurveData>& curves() const { return curves_; }
-  /// Faces, spheres or curve segments: what a model's per-primitive `color` indexes.
+  /// The boxes as committed, or null.
+  const std::shared_ptr<const BoxData>& boxes() const { return boxes_; }
+  /// The planes as committed, or null.
+  const std::shared_ptr<const PlaneData>& planes() const { return planes_; }
+  /// Faces, spheres, curve segments, boxes or planes: what a model's per-primitive
+  /// `color` indexes.
   std::size_t primitive_count() const { return primitive_count_; }
   Box3f bounds() const { return bounds_; }
 
@@ -63,12 +85,16 @@ private:
   void commit_mesh();
   void commit_spheres();
   void commit_curves();
+  void commit_boxes();
+  void commit_planes();
 
   std::shared_ptr<const MeshData> mesh_;
   std::shared_ptr<const SphereData> spheres_;
   SphereType sphere_type_ = SphereType::sphere;
   SphereIntersector sphere_intersector_ = SphereIntersector::sciray;
   std::shared_ptr<const CurveData> curves_;
+  std::shared_ptr<const BoxData> boxes_;
+  std::shared_ptr<const PlaneData> planes_;
   std::size_t primitive_count_ = 0;
   Box3f bounds_;
 };
@@ -106,25 +132,11 @@ private:
   std::vector<Ref<GeometricModel>> models_;
 };
 
-/// An affine transform as OSPRay stores it: linear part columns vx, vy, vz, then p.
-struct Affine {
-  Vec3f vx{1, 0, 0}, vy{0, 1, 0}, vz{0, 0, 1}, p{0, 0, 0};
-  bool identity() const {
-    return vx == Vec3f{1, 0, 0} && vy == Vec3f{0, 1, 0} && vz == Vec3f{0, 0, 1} && p == Vec3f{0, 0, 0};
-  }
-  Vec3f point(const Vec3f& x) const { return vx * x.x + vy * x.y + vz * x.z + p; }
-  Vec3f vector(const Vec3f& x) const { return vx * x.x + vy * x.y + vz * x.z; }
-  /// Transforms normals: the inverse transpose of the linear part (up to scale).
-  Vec3f normal(const Vec3f& n) const {
-    return cross(vy, vz) * n.x + cross(vz, vx) * n.y + cross(vx, vy) * n.z;
-  }
-};
-
 class Instance : public Object {
 public:
   Instance() : Object(OSP_INSTANCE, "") {}
   Group* group() const { return group_.get(); }
-  const Affine& transform() const { return transform_; }
+  const Affine3f& transform() const { return transform_; }
   Box3f bounds() const;
   std::uint64_t version() const override;
 
@@ -133,7 +145,7 @@ protected:
 
 private:
   Ref<Group> group_;
-  Affine transform_;
+  Affine3f transform_;
 };
 
 class Light : public Object {
@@ -152,24 +164,58 @@ private:
   Vec3f direction_{0.f, 0.f, 1.f};
 };
 
-/// The engine's form of a committed world: every (instance, model) pair as one geometry
-/// of a flat sciray world, rebuilt when anything the world uses is recommitted or when it
-/// is rendered with another ISA's kernels (sciray's own intersectors are per ISA).
+/// The engine's form of one OSPRay group: one engine group holding a geometry per model
+/// (geometry id = index of the model in the group), built once and shared by every
+/// instance of the group. A world keeps it across rebuilds while the group's version and
+/// the kernels are unchanged.
+struct BuiltGroup {
+  /// The Embree device the group was built on (outlives everything below).
+  std::shared_ptr<accel::Device> device;
+  /// Arrays the group's geometries read in place (destroyed after `group`).
+  std::vector<std::shared_ptr<const void>> keep_alive;
+  /// Null when the group has no geometry: its instances contribute nothing.
+  std::shared_ptr<shim::EngineWorld::GroupType> group;
+  std::vector<Ref<GeometricModel>> models;  ///< by engine geometry id
+  Ref<Group> source;
+  std::uint64_t version = 0;
+  /// The kernels the group was committed with (sciray's intersectors are per ISA).
+  const shim::IsaKernels* kernels = nullptr;
+};
+
+/// The engine's form of a committed world: an engine world with one Embree instance per
+/// OSPRay instance of a group with geometry, over the groups' shared BVHs. Rebuilt (the
+/// top level only, and the groups that changed) when anything the world uses is
+/// recommitted, or when it is rendered with another ISA's kernels.
 struct BuiltWorld {
   std::shared_ptr<accel::Device> device;
-  /// Arrays the world's geometries read in place (declared before `world`, which is
+  /// The groups the world's instances place (declared before `world`, which is
   /// destroyed first).
-  std::vector<std::shared_ptr<const void>> keep_alive;
+  std::vector<std::shared_ptr<const BuiltGroup>> groups;
   std::unique_ptr<shim::EngineWorld> world;
   /// The kernels the world was committed with; frames and picks trace with them.
   const shim::IsaKernels* kernels = nullptr;
-  struct Origin {
+  struct PlacedInstance {
     Ref<Instance> instance;
-    Ref<GeometricModel> model;
+    std::size_t group;  ///< index into `groups`
   };
-  std::vector<Origin> origins;  ///< by sciray geometry id
-  SciVisParams lights;          ///< light part of the scivis parameters
+  std::vector<PlacedInstance> instances;  ///< by engine instance index
+  SciVisParams lights;                    ///< light part of the scivis parameters
   std::uint64_t version = 0;
+
+  struct Origin {
+    Instance* instance;
+    GeometricModel* model;
+  };
+  /// The OSPRay instance and model of a hit (its top-level inst_id and geom_id).
+  Origin origin(std::int32_t inst_id, std::int32_t geom_id) const;
+};
+
+/// What a world build reports: warnings for the application, and a summary at debug
+/// level (instances, groups built and reused, and the engine's memory when asked for).
+struct BuildLog {
+  bool want_memory = false;
+  std::vector<std::string> warnings;
+  std::vector<std::string> debug;
 };
 
 class World : public Object {
@@ -177,7 +223,7 @@ public:
   World() : Object(OSP_WORLD, "") {}
   /// The engine world for the current commits of everything this world uses, committed
   /// through `kernels` (the rendering device's ISA).
-  std::shared_ptr<const BuiltWorld> built(const shim::IsaKernels& kernels, std::vector<std::string>& warnings);
+  std::shared_ptr<const BuiltWorld> built(const shim::IsaKernels& kernels, BuildLog& log);
   Box3f bounds() const;
   std::uint64_t version() const override;
 
@@ -185,9 +231,15 @@ protected:
   void on_commit() override;
 
 private:
+  std::shared_ptr<const BuiltGroup> build_group(Group& group, const shim::IsaKernels& kernels);
+
   std::vector<Ref<Instance>> instances_;
   std::vector<Ref<Light>> lights_;
   std::mutex build_mutex_;
+  /// One Embree device for all of this world's builds, so that unchanged groups carry over.
+  std::shared_ptr<accel::Device> device_;
+  /// The groups of the last successful build, by OSPRay group.
+  std::map<const Group*, std::shared_ptr<const BuiltGroup>> group_cache_;
   std::shared_ptr<const BuiltWorld> built_;
 };
 
