@@ -103,17 +103,11 @@ void check_methods(const std::vector<Ray<float>>& rays, const Vec3f& center, flo
       shim::kernels(isa).trace(world, rays, results);
       for (std::size_t i = 0; i < rays.size(); ++i) t[i] = results[i].t;
       const Score s = score(rays, t, center, radius);
-      const bool own = intersector == SphereIntersector::sciray;
-      INFO((own ? "sciray" : "embree") << " on " << simd::isa_name(isa) << ": " << s.wrong << " wrong, worst "
+      INFO((intersector == SphereIntersector::sciray ? "sciray" : "embree") << " on " << simd::isa_name(isa) << ": " << s.wrong << " wrong, worst "
                                        << s.worst_ulps << " ulps");
-      if (own) {
-        CHECK(s.wrong == 0);
-        CHECK(s.worst_ulps <= 2);
-      } else {
-        // Embree's point geometry, measured and stated in docs/accuracy.md.
-        CHECK(s.wrong == 0);
-        CHECK(s.worst_ulps <= 64);
-      }
+      // Both hold here (Embree's point geometry also works from the closest approach).
+      CHECK(s.wrong == 0);
+      CHECK(s.worst_ulps <= 2);
     }
   }
 }

@@ -10,7 +10,6 @@
 // Neither is templated on the SIMD architecture, because Embree's build is
 // ISA-independent; `commit<Arch>` only tells geometries with sciray's own intersectors
 // which compiled packet code to register. Renderers, which run per ray, take Arch.
-#include <algorithm>
 #include <cmath>
 #include <concepts>
 #include <cstdint>
@@ -18,6 +17,7 @@
 #include <memory>
 #include <string>
 #include <tuple>
+#include <unordered_set>
 #include <vector>
 
 #include "sciray/accel/embree.hpp"
@@ -253,12 +253,9 @@ public:
   /// what Embree holds (BVHs and buffers).
   std::size_t memory_bytes() const {
     std::size_t bytes = this->owned_bytes();
-    std::vector<const GroupType*> counted;
-    for (const Instance& instance : instances_) {
-      if (std::find(counted.begin(), counted.end(), instance.group.get()) != counted.end()) continue;
-      counted.push_back(instance.group.get());
-      bytes += instance.group->owned_bytes();
-    }
+    std::unordered_set<const GroupType*> counted;
+    for (const Instance& instance : instances_)
+      if (counted.insert(instance.group.get()).second) bytes += instance.group->owned_bytes();
     return bytes + static_cast<std::size_t>(std::max<std::int64_t>(0, this->device_->bytes_in_use()));
   }
 
