@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -1570,4 +1571,518 @@ TEST_CASE("box and plane: bad input is named through the error callback", "[c_ap
   }
   CHECK(api.messages.errors.empty());
   for (OSPObject o : std::initializer_list<OSPObject>{box, model, plane}) ospRelease(o);
+}
+
+// ---- clipping geometry ---------------------------------------------------------------------
+
+namespace {
+
+/// The 8 corners of [lower, upper] (corner k takes upper on axis i where bit i of k is
+/// set) and the 12 outward-facing triangles over them.
+std::vector<float> cube_corners(std::array<float, 3> lower, std::array<float, 3> upper) {
+  std::vector<float> corners;
+  for (int k = 0; k < 8; ++k)
+    for (int i = 0; i < 3; ++i) corners.push_back(k & (1 << i) ? upper[i] : lower[i]);
+  return corners;
+}
+const std::uint32_t cube_triangles[12][3] = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
+                                             {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
+
+/// A committed mesh geometry: the closed cube [lower, upper] as 12 triangles.
+OSPGeometry new_cube_mesh(std::array<float, 3> lower, std::array<float, 3> upper) {
+  const std::vector<float> corners = cube_corners(lower, upper);
+  OSPGeometry g = ospNewGeometry("mesh");
+  set_array(g, "vertex.position", corners.data(), OSP_VEC3F, 8);
+  set_array(g, "index", cube_triangles, OSP_VEC3UI, 12);
+  ospCommit(g);
+  return g;
+}
+
+/// A committed model of `g`, which it takes over; `invert` sets invertNormals.
+OSPGeometricModel new_model(OSPGeometry g, bool invert = false) {
+  OSPGeometricModel model = ospNewGeometricModel(g);
+  ospRelease(g);
+  if (invert) ospSetBool(model, "invertNormals", true);
+  ospCommit(model);
+  return model;
+}
+
+/// Sets `group`'s clippingGeometry to `models` (none: removes it) and commits it.
+void set_clipping(OSPGroup group, const std::vector<OSPGeometricModel>& models) {
+  if (models.empty()) {
+    ospRemoveParam(group, "clippingGeometry");
+  } else {
+    OSPData list = ospNewSharedData1D(models.data(), OSP_GEOMETRIC_MODEL, models.size());
+    ospSetObject(group, "clippingGeometry", list);
+    ospRelease(list);
+  }
+  ospCommit(group);
+}
+
+/// A rotation by `degrees` about the axis `axis` (0, 1, 2 for x, y, z), then a move.
+std::array<float, 12> rotate_then_move(int axis, float degrees, float tx, float ty, float tz, float scale = 1.f) {
+  const float a = degrees * 3.14159265358979f / 180.f, c = std::cos(a) * scale, s = std::sin(a) * scale;
+  std::array<float, 12> m{};
+  const int u = (axis + 1) % 3, v = (axis + 2) % 3;  // rotates u towards v
+  m[3 * axis + axis] = scale;
+  m[3 * u + u] = c, m[3 * u + v] = s;
+  m[3 * v + u] = -s, m[3 * v + v] = c;
+  m[9] = tx, m[10] = ty, m[11] = tz;
+  return m;
+}
+
+/// The solid cube [-1, 1]³ as a mesh in one group and instance, and a second group
+/// with clipping geometry only (none at first) in its own instance; lit by an ambient
+/// light. Picks and orthographic depth images look down +z from z = -5.
+struct ClipScene {
+  OSPGeometricModel cube = new_model(new_cube_mesh({-1.f, -1.f, -1.f}, {1.f, 1.f, 1.f}));
+  OSPGroup cube_group = new_group({cube});
+  OSPInstance cube_instance = new_instance(cube_group);
+  OSPGroup clip_group = new_group({});
+  OSPInstance clip_instance = new_instance(clip_group);
+  OSPWorld world = new_world({cube_instance, clip_instance});
+  Picker pick;
+
+  ClipScene() = default;
+  ClipScene(const ClipScene&) = delete;
+  ClipScene& operator=(const ClipScene&) = delete;
+  ~ClipScene() {
+    for (OSPObject o :
+         std::initializer_list<OSPObject>{cube, cube_group, cube_instance, clip_group, clip_instance, world})
+      ospRelease(o);
+  }
+
+  /// Clips with `models` placed by `m` (the models stay the caller's).
+  void clip(const std::vector<OSPGeometricModel>& models,
+            const std::array<float, 12>& m = scale_then_move(1, 1, 1, 0, 0, 0)) {
+    set_clipping(clip_group, models);
+    set_transform(clip_instance, m);
+    ospCommit(clip_instance);
+  }
+
+  /// The pick from (x, y, -5) along +z must land on the cube at (x, y, z).
+  void expect_cube(float x, float y, float z) {
+    INFO("pick from (" << x << ", " << y << ", -5)");
+    check_pick(pick, world, {x, y, -5.f}, {0.f, 0.f, 1.f}, cube_instance, cube, {x, y, z});
+  }
+  void expect_miss(float x, float y) {
+    INFO("pick from (" << x << ", " << y << ", -5)");
+    const OSPPickResult hit = pick(world, {x, y, -5.f});
+    CHECK(hit.hasHit == 0);
+    release_pick(hit);
+  }
+
+  /// Depth (distance from the plane z = -5: 4 on the front face, 6 on the back face,
+  /// inf where nothing is hit) of an orthographic W x W view of [-2, 2]², with the
+  /// screen's x running along -x; calls check(x, y, depth) for each pixel.
+  template <class Check>
+  void check_depth(int W, Check&& check) {
+    OSPCamera camera = ospNewCamera("orthographic");
+    ospSetVec3f(camera, "position", 0.f, 0.f, -5.f);
+    ospSetVec3f(camera, "direction", 0.f, 0.f, 1.f);
+    ospSetFloat(camera, "height", 4.f);
+    ospCommit(camera);
+    OSPFrameBuffer fb = ospNewFrameBuffer(W, W, OSP_FB_RGBA32F, OSP_FB_COLOR | OSP_FB_DEPTH);
+    ospRenderFrameBlocking(fb, pick.renderer, camera, world);
+    const auto* depth = static_cast<const float*>(ospMapFrameBuffer(fb, OSP_FB_DEPTH));
+    REQUIRE(depth != nullptr);
+    for (int py = 0; py < W; ++py)
+      for (int px = 0; px < W; ++px)
+        check(-((px + 0.5f) / W * 4.f - 2.f), (py + 0.5f) / W * 4.f - 2.f, depth[py * W + px]);
+    ospUnmapFrameBuffer(depth, fb);
+    ospRelease(fb);
+    ospRelease(camera);
+  }
+};
+
+constexpr float inf = std::numeric_limits<float>::infinity();
+
+/// Counts pixels whose depth is not `expected(x, y)`; NaN means "do not check" (near an
+/// edge of the clipped region).
+template <class Expected>
+int wrong_depths(ClipScene& scene, Expected&& expected, int* checked) {
+  int wrong = 0;
+  *checked = 0;
+  scene.check_depth(64, [&](float x, float y, float depth) {
+    const float want = expected(x, y);
+    if (std::isnan(want)) return;
+    ++*checked;
+    if (std::isinf(want) ? !std::isinf(depth) : std::abs(depth - want) > 1e-3f) ++wrong;
+  });
+  return wrong;
+}
+
+/// Where the front face is cut by a disc of `radius` about (cx, cy) and the back face is
+/// not: `inside` where the front face is clipped, `outside` elsewhere on the cube, inf
+/// off it, NaN within `margin` of an edge.
+float disc_depth(float x, float y, float cx, float cy, float radius, float inside, float outside,
+                 float margin = 0.05f) {
+  if (std::abs(std::abs(x) - 1.f) < margin || std::abs(std::abs(y) - 1.f) < margin) return NAN;
+  if (std::abs(x) > 1.f || std::abs(y) > 1.f) return inf;
+  const float r = std::hypot(x - cx, y - cy);
+  if (std::abs(r - radius) < margin) return NAN;
+  return r < radius ? inside : outside;
+}
+
+}  // namespace
+
+TEST_CASE("clipping: a sphere bites the cube's front face; picks and frames reach the back face",
+          "[c_api][clipping]") {
+  ApiFixture api;
+  ClipScene scene;
+  scene.expect_cube(0.f, 0.f, -1.f);  // no clipping yet
+
+  // A sphere of radius 0.5 about the front face's centre, in a group of its own: it
+  // clips the other group's cube, and is not rendered itself.
+  OSPGeometricModel ball = new_model(new_spheres({0.f, 0.f, -1.f}, 0.5f));
+  scene.clip({ball});
+  scene.expect_cube(0.f, 0.f, 1.f);
+  scene.expect_cube(0.f, 0.3f, 1.f);
+  scene.expect_cube(-0.3f, 0.3f, 1.f);
+  scene.expect_cube(0.8f, 0.f, -1.f);
+  scene.expect_cube(0.f, -0.6f, -1.f);
+  check_pick(scene.pick, scene.world, {0.f, 0.f, 5.f}, {0.f, 0.f, -1.f}, scene.cube_instance, scene.cube,
+             {0.f, 0.f, 1.f});  // the back face itself is whole
+  const OSPPickResult beside = scene.pick(scene.world, {0.f, 1.3f, -5.f});  // the ball is not there
+  CHECK(beside.hasHit == 0);
+  release_pick(beside);
+  check_bounds(ospGetBounds(scene.world), {-1.f, -1.f, -1.f}, {1.f, 1.f, 1.f});  // clipping adds no bounds
+  int checked = 0;
+  CHECK(wrong_depths(scene, [](float x, float y) { return disc_depth(x, y, 0.f, 0.f, 0.5f, 6.f, 4.f); }, &checked) ==
+        0);
+  CHECK(checked > 64 * 64 / 3);
+
+  // Placed by a rotation with a uniform scale 2 and a move: the sphere (0, 0, -0.5) of
+  // radius 0.25 about z becomes the sphere (0.3, 0, -1) of radius 0.5.
+  OSPGeometricModel small = new_model(new_spheres({0.f, 0.f, -0.5f}, 0.25f));
+  scene.clip({small}, rotate_then_move(2, 90.f, 0.3f, 0.f, 0.f, 2.f));
+  scene.expect_cube(0.3f, 0.f, 1.f);
+  scene.expect_cube(0.7f, 0.f, 1.f);
+  scene.expect_cube(-0.3f, 0.f, -1.f);
+  scene.expect_cube(0.3f, 0.6f, -1.f);
+
+  // Clipping geometry in the rendered group itself, moved with it.
+  set_clipping(scene.cube_group, {ball});
+  scene.clip({});
+  set_transform(scene.cube_instance, scale_then_move(1, 1, 1, 5, 0, 0));
+  ospCommit(scene.cube_instance);
+  check_pick(scene.pick, scene.world, {5.f, 0.f, -5.f}, {0.f, 0.f, 1.f}, scene.cube_instance, scene.cube,
+             {5.f, 0.f, 1.f});
+  check_pick(scene.pick, scene.world, {5.8f, 0.f, -5.f}, {0.f, 0.f, 1.f}, scene.cube_instance, scene.cube,
+             {5.8f, 0.f, -1.f});
+  ospRelease(ball);
+  ospRelease(small);
+  CHECK(api.messages.errors.empty());
+}
+
+TEST_CASE("clipping: invertNormals keeps only what lies inside", "[c_api][clipping]") {
+  ApiFixture api;
+  ClipScene scene;
+  OSPGeometricModel ball = new_model(new_spheres({0.f, 0.f, -1.f}, 0.5f), true);
+  scene.clip({ball});
+  scene.expect_cube(0.f, 0.f, -1.f);
+  scene.expect_cube(0.f, 0.3f, -1.f);
+  scene.expect_miss(0.8f, 0.f);  // outside the ball: both faces clipped
+  scene.expect_miss(0.f, -0.6f);
+  int checked = 0;
+  CHECK(wrong_depths(scene, [](float x, float y) { return disc_depth(x, y, 0.f, 0.f, 0.5f, 4.f, inf); }, &checked) ==
+        0);
+  CHECK(checked > 64 * 64 / 3);
+  ospRelease(ball);
+  CHECK(api.messages.errors.empty());
+}
+
+TEST_CASE("clipping: a plane in a moved and rotated instance clips in world space", "[c_api][clipping][plane]") {
+  ApiFixture api;
+  ClipScene scene;
+  // z = 0 clips z < 0 in its group; rotated by 60 degrees about y and moved to
+  // t = (0.2, 5, -0.3), it keeps n·(p - t) >= 0 with n = (sin 60°, 0, cos 60°).
+  const float plane[4] = {0.f, 0.f, 1.f, 0.f};
+  OSPGeometry g = ospNewGeometry("plane");
+  set_array(g, "plane.coefficients", plane, OSP_VEC4F, 1);
+  ospCommit(g);
+  OSPGeometricModel model = new_model(g);
+  scene.clip({model}, rotate_then_move(1, 60.f, 0.2f, 5.f, -0.3f));
+  const float nx = std::sin(3.14159265f / 3.f), nz = 0.5f;
+  const auto kept = [&](float x, float z) { return nx * (x - 0.2f) + nz * (z + 0.3f) >= 0.f; };
+  for (float x : {-0.9f, -0.5f, 0.f, 0.3f, 0.5f, 0.8f, 0.95f})
+    for (float y : {-0.5f, 0.f, 0.7f}) {
+      INFO("x " << x << " y " << y);
+      if (kept(x, -1.f))
+        scene.expect_cube(x, y, -1.f);
+      else if (kept(x, 1.f))
+        scene.expect_cube(x, y, 1.f);  // the front clipped, the back face behind it kept
+      else
+        scene.expect_miss(x, y);
+    }
+  // Along +x the face x = -1 is clipped, x = 1 is kept.
+  check_pick(scene.pick, scene.world, {-5.f, 0.f, 0.f}, {1.f, 0.f, 0.f}, scene.cube_instance, scene.cube,
+             {1.f, 0.f, 0.f});
+  int checked = 0;
+  CHECK(wrong_depths(scene,
+                     [&](float x, float y) -> float {
+                       if (std::abs(std::abs(x) - 1.f) < 0.05f || std::abs(std::abs(y) - 1.f) < 0.05f) return NAN;
+                       if (std::abs(x) > 1.f || std::abs(y) > 1.f) return inf;
+                       const float front = nx * (x - 0.2f) + nz * (-1.f + 0.3f), back = front + 2.f * nz;
+                       if (std::abs(front) < 0.05f || std::abs(back) < 0.05f) return NAN;
+                       return front >= 0.f ? 4.f : back >= 0.f ? 6.f : inf;
+                     },
+                     &checked) == 0);
+  CHECK(checked > 64 * 64 / 3);
+
+  // A mirroring instance turns the clipped side around with the space: x = 0 clips
+  // x < 0 in its group, which the mirror x -> -x places at x > 0.
+  const float yz_plane[4] = {1.f, 0.f, 0.f, 0.f};
+  set_array(g, "plane.coefficients", yz_plane, OSP_VEC4F, 1);
+  ospCommit(g);
+  scene.clip({model}, scale_then_move(-1, 1, 1, 0, 0, 0));
+  scene.expect_cube(-0.5f, 0.f, -1.f);
+  scene.expect_miss(0.5f, 0.f);
+  ospRelease(model);
+  CHECK(api.messages.errors.empty());
+}
+
+TEST_CASE("clipping: boxes, analytic under axis-aligned scales, exact meshes under rotations",
+          "[c_api][clipping][box]") {
+  ApiFixture api;
+  ClipScene scene;
+  const float box[6] = {-0.5f, -0.5f, -0.5f, 0.5f, 0.5f, 0.5f};
+  OSPGeometry g = ospNewGeometry("box");
+  set_array(g, "box", box, OSP_BOX3F, 1);
+  ospCommit(g);
+  OSPGeometricModel model = new_model(g);
+
+  // Scaled along x and moved to the front face: it clips |x| < 0.4, |y| < 0.5 there.
+  scene.clip({model}, scale_then_move(0.8f, 1, 1, 0, 0, -1));
+  scene.expect_cube(0.35f, 0.45f, 1.f);
+  scene.expect_cube(-0.35f, -0.45f, 1.f);
+  scene.expect_cube(0.45f, 0.f, -1.f);
+  scene.expect_cube(0.f, 0.55f, -1.f);
+
+  // Rotated by 45 degrees about z: the diamond |x| + |y| < 0.5·√2 on the front face. An
+  // axis-aligned box around it would clip (0.4, 0.4) too.
+  scene.clip({model}, rotate_then_move(2, 45.f, 0, 0, -1));
+  const float half_diagonal = 0.5f * std::sqrt(2.f);
+  for (float x : {-0.6f, -0.3f, 0.f, 0.3f, 0.4f, 0.6f, 0.8f})
+    for (float y : {-0.4f, 0.f, 0.3f, 0.4f}) {
+      INFO("x " << x << " y " << y);
+      if (std::abs(std::abs(x) + std::abs(y) - half_diagonal) < 0.02f) continue;
+      scene.expect_cube(x, y, std::abs(x) + std::abs(y) < half_diagonal ? 1.f : -1.f);
+    }
+  int checked = 0;
+  CHECK(wrong_depths(scene,
+                     [&](float x, float y) -> float {
+                       if (std::abs(std::abs(x) - 1.f) < 0.05f || std::abs(std::abs(y) - 1.f) < 0.05f) return NAN;
+                       if (std::abs(x) > 1.f || std::abs(y) > 1.f) return inf;
+                       const float d = std::abs(x) + std::abs(y) - half_diagonal;
+                       if (std::abs(d) < 0.05f) return NAN;
+                       return d < 0.f ? 6.f : 4.f;
+                     },
+                     &checked) == 0);
+  CHECK(checked > 64 * 64 / 3);
+  ospRelease(model);
+  CHECK(api.messages.errors.empty());
+}
+
+TEST_CASE("clipping: a closed mesh clips its inside; meshes must be closed, at most 64", "[c_api][clipping]") {
+  ApiFixture api;
+  ClipScene scene;
+  // The box [-0.5, 0.5]² x [-1.5, -0.5] as 6 quads with 4 vertices each (closed once
+  // its vertices are welded by position), moved by 0.3 along x.
+  const std::vector<float> c = cube_corners({-0.5f, -0.5f, -1.5f}, {0.5f, 0.5f, -0.5f});
+  const std::uint32_t faces[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4},
+                                     {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+  std::vector<float> positions;
+  std::vector<std::uint32_t> quads;
+  for (const auto& face : faces)
+    for (std::uint32_t corner : face) {
+      quads.push_back(static_cast<std::uint32_t>(positions.size() / 3));
+      positions.insert(positions.end(), {c[3 * corner], c[3 * corner + 1], c[3 * corner + 2]});
+    }
+  OSPGeometry g = ospNewGeometry("mesh");
+  set_array(g, "vertex.position", positions.data(), OSP_VEC3F, 24);
+  set_array(g, "index", quads.data(), OSP_VEC4UI, 6);
+  ospCommit(g);
+  OSPGeometricModel model = new_model(g);
+  scene.clip({model}, scale_then_move(1, 1, 1, 0.3f, 0, 0));
+  scene.expect_cube(0.3f, 0.f, 1.f);
+  scene.expect_cube(-0.15f, 0.4f, 1.f);
+  scene.expect_cube(0.75f, -0.4f, 1.f);
+  scene.expect_cube(-0.3f, 0.f, -1.f);
+  scene.expect_cube(0.3f, 0.6f, -1.f);
+  int checked = 0;
+  CHECK(wrong_depths(scene,
+                     [&](float x, float y) -> float {
+                       if (std::abs(std::abs(x) - 1.f) < 0.05f || std::abs(std::abs(y) - 1.f) < 0.05f) return NAN;
+                       if (std::abs(x) > 1.f || std::abs(y) > 1.f) return inf;
+                       const float d = std::max(std::abs(x - 0.3f), std::abs(y)) - 0.5f;
+                       if (std::abs(d) < 0.05f) return NAN;
+                       return d < 0.f ? 6.f : 4.f;
+                     },
+                     &checked) == 0);
+  CHECK(checked > 64 * 64 / 3);
+
+  // Inverted: only the part of the cube inside the mesh remains.
+  ospSetBool(model, "invertNormals", true);
+  ospCommit(model);
+  scene.expect_cube(0.3f, 0.f, -1.f);
+  scene.expect_miss(-0.3f, 0.f);
+
+  // Without its last face the mesh is open.
+  set_array(g, "index", quads.data(), OSP_VEC4UI, 5);
+  ospCommit(g);
+  const OSPPickResult open = scene.pick(scene.world, {0.f, 0.f, -5.f});
+  CHECK(open.hasHit == 0);
+  CHECK(api.messages.any_error_containing(
+      "ospPick: world: the group of instance 1, parameter 'clippingGeometry' element 0 (mesh geometry): only a closed "
+      "mesh can clip, but the edge between vertices"));
+  api.messages.errors.clear();
+
+  // 65 instances of a group clipping with a mesh: the engine takes 64.
+  set_array(g, "index", quads.data(), OSP_VEC4UI, 6);
+  ospCommit(g);
+  std::vector<OSPInstance> instances{scene.cube_instance};
+  for (int i = 0; i < 65; ++i)
+    instances.push_back(new_instance(scene.clip_group, scale_then_move(1, 1, 1, 0, 0, -3.f * i)));
+  OSPWorld many = new_world(instances);
+  const OSPPickResult too_many = scene.pick(many, {0.f, 0.f, -5.f});
+  CHECK(too_many.hasHit == 0);
+  CHECK(api.messages.any_error_containing("the group of instance 65, parameter 'clippingGeometry' element 0 (mesh "
+                                          "geometry): clipping: at most 64 clipping meshes are supported"));
+  api.messages.errors.clear();
+  for (std::size_t i = 1; i < instances.size(); ++i) ospRelease(instances[i]);
+  ospRelease(many);
+  ospRelease(model);
+}
+
+TEST_CASE("clipping: what cannot clip is named through the error callback", "[c_api][clipping][errors]") {
+  ApiFixture api;
+  const auto expect_error = [&](const std::string& fragment) {
+    INFO("expected an error containing: " << fragment);
+    CHECK(api.messages.any_error_containing(fragment));
+    api.messages.errors.clear();
+  };
+  ClipScene scene;
+  OSPGeometricModel ball = new_model(new_spheres({0.f, 0.f, -1.f}, 0.5f));
+  scene.clip({ball});
+  scene.expect_cube(0.f, 0.f, 1.f);
+  CHECK(api.messages.errors.empty());
+
+  // Curves: at the group's commit, which fails and leaves the group clipping with the ball.
+  OSPGeometricModel curve = new_model(new_curves({0, 0, 0, 0.1f, 1, 0, 0, 0.1f}, {0}, OSP_ROUND, OSP_LINEAR));
+  set_clipping(scene.clip_group, {curve});
+  expect_error("ospCommit: group: parameter 'clippingGeometry' element 0: curve geometry cannot clip yet");
+  scene.expect_cube(0.f, 0.f, 1.f);
+
+  // Bounded planes: at the group's commit, and at the world's build when the plane was
+  // given bounds after the group was committed.
+  const float plane[4] = {0.f, 0.f, 1.f, 0.f};
+  const float bounds[6] = {-1.f, -1.f, -1.f, 1.f, 1.f, 1.f};
+  OSPGeometry plane_geometry = ospNewGeometry("plane");
+  set_array(plane_geometry, "plane.coefficients", plane, OSP_VEC4F, 1);
+  set_array(plane_geometry, "plane.bounds", bounds, OSP_BOX3F, 1);
+  ospCommit(plane_geometry);
+  ospRetain(plane_geometry);
+  OSPGeometricModel bounded = new_model(plane_geometry);
+  set_clipping(scene.clip_group, {bounded});
+  expect_error("ospCommit: group: parameter 'clippingGeometry' element 0: planes with 'plane.bounds' are not "
+               "supported as clipping geometry yet");
+  ospRemoveParam(plane_geometry, "plane.bounds");
+  ospCommit(plane_geometry);
+  set_clipping(scene.clip_group, {bounded});
+  scene.expect_cube(0.f, 0.5f, 1.f);  // z < 0 clipped
+  set_array(plane_geometry, "plane.bounds", bounds, OSP_BOX3F, 1);
+  ospCommit(plane_geometry);
+  const OSPPickResult none = scene.pick(scene.world, {0.f, 0.f, -5.f});
+  CHECK(none.hasHit == 0);
+  expect_error("ospPick: world: the group of instance 1, parameter 'clippingGeometry' element 0 (plane geometry): "
+               "planes with 'plane.bounds' are not supported as clipping geometry yet");
+
+  // Discs enclose nothing.
+  OSPGeometry discs = new_spheres({0.f, 0.f, -1.f}, 0.5f);
+  ospSetInt(discs, "type", OSP_DISC);
+  ospCommit(discs);
+  OSPGeometricModel disc_model = new_model(discs);
+  set_clipping(scene.clip_group, {disc_model});
+  expect_error("parameter 'clippingGeometry' element 0: discs (sphere geometry of type OSP_DISC or "
+               "OSP_ORIENTED_DISC) enclose nothing and cannot clip");
+
+  // Spheres under a non-uniform scale: at the world's build, naming the group.
+  scene.clip({ball}, scale_then_move(2, 1, 1, 0, 0, 0));
+  OSPFrameBuffer fb = ospNewFrameBuffer(8, 8);
+  OSPFuture future = ospRenderFrame(fb, scene.pick.renderer, scene.pick.camera, scene.world);
+  CHECK(future == nullptr);
+  expect_error("ospRenderFrame: world: the group of instance 1, parameter 'clippingGeometry' element 0 (sphere "
+               "geometry): its instance's transform scales non-uniformly (a sphere becomes an ellipsoid), which "
+               "clipping spheres do not support yet");
+  ospRelease(fb);
+  scene.clip({ball}, rotate_then_move(0, 30.f, 0, 0, 0, 3.f));  // uniform: fine
+  const OSPPickResult uniform = scene.pick(scene.world, {0.f, 0.f, -5.f});
+  CHECK(uniform.hasHit == 1);
+  release_pick(uniform);
+  CHECK(api.messages.errors.empty());
+  scene.clip({ball});
+
+  // Elements that are not models.
+  OSPGeometry sphere_geometry = new_spheres({0.f, 0.f, 0.f}, 1.f);
+  ospSetObjectAsData(scene.clip_group, "clippingGeometry", OSP_GEOMETRY, sphere_geometry);
+  ospCommit(scene.clip_group);
+  expect_error(
+      "group: parameter 'clippingGeometry' must be an array of OSPGeometricModel, got an array of OSPGeometry");
+  OSPGeometricModel uncommitted = ospNewGeometricModel(sphere_geometry);
+  ospSetObjectAsData(scene.clip_group, "clippingGeometry", OSP_GEOMETRIC_MODEL, uncommitted);
+  ospCommit(scene.clip_group);
+  expect_error("group: parameter 'clippingGeometry' element 0 has not been committed");
+  scene.expect_cube(0.f, 0.f, 1.f);  // still clipping with the ball
+  for (OSPObject o : std::initializer_list<OSPObject>{ball, curve, plane_geometry, bounded, disc_model,
+                                                     sphere_geometry, uncommitted})
+    ospRelease(o);
+  CHECK(api.messages.errors.empty());
+}
+
+TEST_CASE("clipping: recommitting clipping geometry, its model or instance changes the next frame",
+          "[c_api][clipping][commit]") {
+  ApiFixture api;
+  log_debug(api.device);
+  ClipScene scene;
+  OSPGeometry g = new_spheres({0.f, 0.f, -1.f}, 0.5f);
+  ospRetain(g);
+  OSPGeometricModel ball = new_model(g);
+  // In the rendered group: changing the clipping keeps the group's BVH.
+  set_clipping(scene.cube_group, {ball});
+  scene.expect_cube(0.f, 0.f, 1.f);
+  int checked = 0;
+  CHECK(wrong_depths(scene, [](float x, float y) { return disc_depth(x, y, 0.f, 0.f, 0.5f, 6.f, 4.f); }, &checked) ==
+        0);
+
+  // The geometry alone: the ball moves to the back face.
+  const float back[3] = {0.f, 0.f, 1.f};
+  set_array(g, "sphere.position", back, OSP_VEC3F, 1);
+  ospCommit(g);
+  scene.expect_cube(0.f, 0.f, -1.f);
+  CHECK(last_build_summary(api.messages).find("(0 built, 2 reused)") != std::string::npos);
+  CHECK(wrong_depths(scene, [](float x, float y) { return disc_depth(x, y, 0.f, 0.f, 0.5f, 4.f, 4.f); }, &checked) ==
+        0);
+  check_pick(scene.pick, scene.world, {0.f, 0.f, 5.f}, {0.f, 0.f, -1.f}, scene.cube_instance, scene.cube,
+             {0.f, 0.f, -1.f});  // seen from behind, the back face is gone
+
+  // The model: inverted.
+  ospSetBool(ball, "invertNormals", true);
+  ospCommit(ball);
+  scene.expect_cube(0.f, 0.f, 1.f);
+  scene.expect_miss(0.8f, 0.f);
+
+  // The instance: the cube and its clipping move together.
+  set_transform(scene.cube_instance, scale_then_move(1, 1, 1, 0, 0.7f, 0));
+  ospCommit(scene.cube_instance);
+  scene.expect_cube(0.f, 0.7f, 1.f);
+  scene.expect_miss(0.f, 0.f);
+
+  // The group: without clipping geometry the cube is whole again.
+  set_clipping(scene.cube_group, {});
+  scene.expect_cube(0.f, 0.f, -1.f);
+  scene.expect_cube(0.8f, 0.f, -1.f);
+  ospRelease(g);
+  ospRelease(ball);
+  CHECK(api.messages.errors.empty());
 }

@@ -1,6 +1,7 @@
 #include "scene_objects.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <optional>
@@ -321,11 +322,13 @@ void GeometricModel::on_commit() {
                   std::to_string(primitives) + " primitives");
     append_colors(face_colors, *color);
   }
-  get_bool("invertNormals", false);  // shading is two-sided, so the side does not matter
+  // Shading is two-sided, so the side matters only to clipping geometry.
+  const bool invert_normals = get_bool("invertNormals", false);
   get_int("id", 0);
   geometry_ = std::move(geometry);
   material_ = std::move(material);
   face_colors_ = std::move(face_colors);
+  invert_normals_ = invert_normals;
 }
 
 std::optional<Vec3f> GeometricModel::material_color() const {
@@ -340,16 +343,48 @@ std::uint64_t GeometricModel::version() const {
   return v;
 }
 
+namespace {
+
+/// Why `model`'s geometry cannot clip whatever its placement ("" where it can): what a
+/// group's commit and every world build check. (A non-uniformly scaled sphere depends
+/// on the instance and is checked at the build.)
+std::string cannot_clip(const GeometricModel& model) {
+  const Geometry& geometry = *model.geometry();
+  if (geometry.curves()) return "curve geometry cannot clip yet";
+  if (geometry.spheres() && geometry.sphere_type() != SphereType::sphere)
+    return "discs (sphere geometry of type OSP_DISC or OSP_ORIENTED_DISC) enclose nothing and cannot clip; use "
+           "OSP_SPHERE";
+  if (geometry.planes() && !geometry.planes()->bounds.empty())
+    return "planes with 'plane.bounds' are not supported as clipping geometry yet; clip with unbounded planes or a box";
+  return {};
+}
+
+/// The committed models of the object array `id` of `group`, if it is set.
+std::vector<Ref<GeometricModel>> read_models(const Object& group, const Data* list, const std::string& id) {
+  std::vector<Ref<GeometricModel>> models;
+  if (!list) return models;
+  for (std::uint64_t i = 0; i < list->size(); ++i) {
+    auto* model = static_cast<GeometricModel*>(list->object(i));
+    const std::string element = group.name() + ": parameter '" + id + "' element " + std::to_string(i);
+    if (!model) throw Error(element + " is NULL");
+    if (!model->committed()) throw Error(element + " has not been committed");
+    models.emplace_back(model);
+  }
+  return models;
+}
+
+}  // namespace
+
 void Group::on_commit() {
-  models_.clear();
-  if (const Data* list = get_data(*this, find("geometry"), "geometry", {OSP_GEOMETRIC_MODEL}))
-    for (std::uint64_t i = 0; i < list->size(); ++i) {
-      auto* model = static_cast<GeometricModel*>(list->object(i));
-      if (!model) throw Error(name() + ": parameter 'geometry' element " + std::to_string(i) + " is NULL");
-      if (!model->committed())
-        throw Error(name() + ": parameter 'geometry' element " + std::to_string(i) + " has not been committed");
-      models_.emplace_back(model);
-    }
+  // Read into locals: a commit that fails leaves the group as it was.
+  auto models = read_models(*this, get_data(*this, find("geometry"), "geometry", {OSP_GEOMETRIC_MODEL}), "geometry");
+  auto clipping = read_models(
+      *this, get_data(*this, find("clippingGeometry"), "clippingGeometry", {OSP_GEOMETRIC_MODEL}), "clippingGeometry");
+  for (std::size_t i = 0; i < clipping.size(); ++i)
+    if (const std::string why = cannot_clip(*clipping[i]); !why.empty())
+      throw Error(name() + ": parameter 'clippingGeometry' element " + std::to_string(i) + ": " + why);
+  models_ = std::move(models);
+  clipping_models_ = std::move(clipping);
 }
 
 Box3f Group::bounds() const {
@@ -358,27 +393,35 @@ Box3f Group::bounds() const {
   return box;
 }
 
-std::uint64_t Group::version() const {
+std::uint64_t Group::geometry_version() const {
   std::uint64_t v = version_;
   for (const auto& m : models_) v = std::max(v, m->version());
   return v;
 }
 
+std::uint64_t Group::version() const {
+  std::uint64_t v = geometry_version();
+  for (const auto& m : clipping_models_) v = std::max(v, m->version());
+  return v;
+}
+
 void Instance::on_commit() {
-  group_ = get_object<Group>("group", OSP_GROUP, true);
-  if (!group_->committed()) throw Error(name() + ": its group has not been committed");
-  transform_ = {};
+  // Read into locals: a commit that fails leaves the instance as it was.
+  Ref<Group> group = get_object<Group>("group", OSP_GROUP, true);
+  if (!group->committed()) throw Error(name() + ": its group has not been committed");
+  Affine3f transform;
   if (const Param* p = find("transform")) {
     if (p->type != OSP_AFFINE3F) throw Error(name() + ": parameter 'transform' must be an affine3f, got " + type_name(p->type));
     float m[12];
     std::memcpy(m, p->bytes.data(), sizeof m);
     for (float v : m)
       if (!std::isfinite(v)) throw Error(name() + ": parameter 'transform' is not finite");
-    const Affine3f transform{{m[0], m[1], m[2]}, {m[3], m[4], m[5]}, {m[6], m[7], m[8]}, {m[9], m[10], m[11]}};
+    transform = {{m[0], m[1], m[2]}, {m[3], m[4], m[5]}, {m[6], m[7], m[8]}, {m[9], m[10], m[11]}};
     const float det = transform.determinant();
     if (det == 0.f || !std::isfinite(det)) throw Error(name() + ": parameter 'transform' is singular");
-    transform_ = transform;
   }
+  group_ = std::move(group);
+  transform_ = transform;
 }
 
 // The transformed box of the group's bounds: the engine's instance is the exact
@@ -499,6 +542,142 @@ Curves model_curves(const GeometricModel& model) {
   return Curves(std::shared_ptr<const CurveData>(std::move(copy)));
 }
 
+// ---- clipping geometry -------------------------------------------------------------------
+
+/// The scale of `m`'s linear part where it is a rotation (or a reflection) times a
+/// uniform scale, which maps spheres onto spheres; none where it scales non-uniformly
+/// or shears.
+std::optional<float> uniform_scale(const Affine3f& m) {
+  const Vec3f columns[3] = {m.vx, m.vy, m.vz};
+  const float s2 = (dot(m.vx, m.vx) + dot(m.vy, m.vy) + dot(m.vz, m.vz)) / 3.f;
+  const float tolerance = 1e-5f * s2;  // float rotations are orthogonal to a few ulps
+  for (int i = 0; i < 3; ++i) {
+    if (std::abs(dot(columns[i], columns[i]) - s2) > tolerance) return std::nullopt;
+    if (std::abs(dot(columns[i], columns[(i + 1) % 3])) > tolerance) return std::nullopt;
+  }
+  return std::sqrt(s2);
+}
+
+/// Whether `m`'s linear part maps every axis onto an axis (a scale, also negative, and
+/// a permutation of the axes): it then maps a box exactly onto the box around its
+/// transformed corners.
+bool maps_axes_to_axes(const Affine3f& m) {
+  const auto on_one_axis = [](const Vec3f& c) {
+    return static_cast<int>(c.x != 0.f) + static_cast<int>(c.y != 0.f) + static_cast<int>(c.z != 0.f) == 1;
+  };
+  return on_one_axis(m.vx) && on_one_axis(m.vy) && on_one_axis(m.vz);
+}
+
+/// `box` placed by `m` as a closed mesh of 12 triangles: exact under any transform.
+std::shared_ptr<const MeshData> box_mesh(const Box3f& box, const Affine3f& m) {
+  auto mesh = std::make_shared<MeshData>();
+  for (int k = 0; k < 8; ++k) {
+    const Vec3f p = m.point({k & 1 ? box.upper.x : box.lower.x, k & 2 ? box.upper.y : box.lower.y,
+                             k & 4 ? box.upper.z : box.lower.z});
+    mesh->positions.insert(mesh->positions.end(), {p.x, p.y, p.z});
+  }
+  mesh->indices = {0, 2, 1, 1, 2, 3, 4, 5, 6, 5, 7, 6, 0, 1, 4, 1, 5, 4,
+                   2, 6, 3, 3, 6, 7, 0, 4, 2, 2, 4, 6, 1, 3, 5, 3, 7, 5};
+  return mesh;
+}
+
+/// The positions and faces of `mesh` placed by `m` (the geometry's own data where `m`
+/// is the identity).
+std::shared_ptr<const MeshData> placed_mesh(const std::shared_ptr<const MeshData>& mesh, const Affine3f& m) {
+  if (m.identity()) return mesh;
+  auto placed = std::make_shared<MeshData>();
+  placed->vertices_per_face = mesh->vertices_per_face;
+  placed->indices = mesh->indices;
+  placed->positions.reserve(mesh->positions.size());
+  for (std::size_t v = 0; v < mesh->vertex_count(); ++v) {
+    const float* x = &mesh->positions[3 * v];
+    const Vec3f p = m.point({x[0], x[1], x[2]});
+    placed->positions.insert(placed->positions.end(), {p.x, p.y, p.z});
+  }
+  return placed;
+}
+
+/// An edge shared by an odd number of faces, its vertices welded by position (so that a
+/// mesh with vertices per face is closed too). A mesh without one is closed, and the
+/// parity of a ray's crossings tells its inside from its outside.
+struct OpenEdge {
+  std::uint32_t a, b;
+  std::size_t faces;
+};
+
+std::optional<OpenEdge> open_edge(const MeshData& mesh) {
+  const std::size_t n = mesh.vertex_count();
+  const auto position = [&](std::uint32_t v) {
+    return std::array<float, 3>{mesh.positions[3 * v], mesh.positions[3 * v + 1], mesh.positions[3 * v + 2]};
+  };
+  std::vector<std::uint32_t> order(n);
+  for (std::size_t v = 0; v < n; ++v) order[v] = static_cast<std::uint32_t>(v);
+  std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return position(a) < position(b); });
+  std::vector<std::uint32_t> weld(n);  // the lowest-sorted vertex at the same position
+  for (std::size_t i = 0; i < n; ++i)
+    weld[order[i]] = i > 0 && position(order[i]) == position(order[i - 1]) ? weld[order[i - 1]] : order[i];
+
+  std::vector<std::uint64_t> edges;
+  const unsigned k = mesh.vertices_per_face;
+  edges.reserve(mesh.indices.size());
+  for (std::size_t f = 0; f < mesh.face_count(); ++f)
+    for (unsigned c = 0; c < k; ++c) {
+      std::uint32_t a = weld[mesh.indices[f * k + c]], b = weld[mesh.indices[f * k + (c + 1) % k]];
+      if (a == b) continue;  // a triangle in a quad mesh repeats its last vertex
+      if (a > b) std::swap(a, b);
+      edges.push_back(std::uint64_t{a} << 32 | b);
+    }
+  std::sort(edges.begin(), edges.end());
+  for (std::size_t i = 0, j = 0; i < edges.size(); i = j) {
+    while (j < edges.size() && edges[j] == edges[i]) ++j;
+    if ((j - i) % 2 != 0) return OpenEdge{static_cast<std::uint32_t>(edges[i] >> 32),
+                                          static_cast<std::uint32_t>(edges[i] & 0xffffffffu), j - i};
+  }
+  return std::nullopt;
+}
+
+/// Adds the geometry of the clipping model `model`, placed by `m`, to `clipping`.
+void add_clipper(Clipping& clipping, const GeometricModel& model, const Affine3f& m) {
+  if (const std::string why = cannot_clip(model); !why.empty()) throw Error(why);
+  const Geometry& geometry = *model.geometry();
+  const bool invert = model.invert_normals();
+  if (const auto& spheres = geometry.spheres()) {
+    const std::optional<float> scale = uniform_scale(m);
+    if (!scale)
+      throw Error("its instance's transform scales non-uniformly (a sphere becomes an ellipsoid), which clipping "
+                  "spheres do not support yet");
+    for (std::size_t i = 0; i < spheres->count(); ++i) {
+      const float* c = &spheres->positions[3 * i];
+      const float radius = spheres->radii.empty() ? spheres->radius : spheres->radii[i];
+      clipping.add_sphere(m.point({c[0], c[1], c[2]}), *scale * radius, invert);
+    }
+  } else if (const auto& boxes = geometry.boxes()) {
+    const bool analytic = maps_axes_to_axes(m);
+    for (const Box3f& box : boxes->boxes)
+      if (analytic)
+        clipping.add_box(m.transform(box), invert);
+      else
+        clipping.add_mesh(box_mesh(box, m), invert);  // rotated or sheared: exact as a mesh
+  } else if (const auto& planes = geometry.planes()) {
+    // The cofactor matrix is the inverse transpose times the determinant: a mirroring
+    // transform would turn the normal around, and with it the side that is clipped.
+    const float side = m.determinant() < 0.f ? -1.f : 1.f;
+    for (const Planes::Plane& plane : planes->planes) {
+      const Vec3f n{plane.a, plane.b, plane.c};
+      const Vec3f on_plane = n * (-plane.d / dot(n, n));
+      const Vec3f normal = normalize(m.normal(n) * side);
+      clipping.add_plane(normal, -dot(normal, m.point(on_plane)), invert);
+    }
+  } else {
+    const std::shared_ptr<const MeshData>& mesh = geometry.mesh();
+    if (const auto edge = open_edge(*mesh))
+      throw Error("only a closed mesh can clip, but the edge between vertices " + std::to_string(edge->a) + " and " +
+                  std::to_string(edge->b) + " belongs to " + std::to_string(edge->faces) + " face" +
+                  (edge->faces == 1 ? "" : "s"));
+    clipping.add_mesh(placed_mesh(mesh, m), invert);
+  }
+}
+
 }  // namespace
 
 BuiltWorld::Origin BuiltWorld::origin(std::int32_t inst_id, std::int32_t geom_id) const {
@@ -518,7 +697,7 @@ std::shared_ptr<const BuiltGroup> World::build_group(Group& group, const shim::I
   auto built = std::make_shared<BuiltGroup>();
   built->device = device_;
   built->source = &group;
-  built->version = group.version();
+  built->version = group.geometry_version();  // its clipping models are the world's
   built->kernels = &kernels;
   if (group.models().empty()) return built;
   built->group = std::make_shared<shim::EngineWorld::GroupType>(*device_);
@@ -563,7 +742,7 @@ std::shared_ptr<const BuiltWorld> World::built(const shim::IsaKernels& kernels, 
     auto [at, added] = group_index.try_emplace(group, built->groups.size());
     if (added) {
       const auto cached = group_cache_.find(group);
-      if (cached != group_cache_.end() && cached->second->version == group->version() &&
+      if (cached != group_cache_.end() && cached->second->version == group->geometry_version() &&
           cached->second->kernels == &kernels) {
         built->groups.push_back(cached->second);  // its BVH carries over as it is
         ++reused;
@@ -576,6 +755,9 @@ std::shared_ptr<const BuiltWorld> World::built(const shim::IsaKernels& kernels, 
     built->world->add_instance(placed.group, instance->transform());
     built->instances.push_back({instance, at->second});
   }
+  // Every instance's clipping geometry, also of groups with nothing to render, clips the
+  // whole world.
+  built->world->set_clipping(build_clipping());
   // Through the device's kernels: builds the new groups (spheres register sciray's
   // intersector compiled for its ISA), then the top-level BVH over the instances.
   kernels.commit(*built->world);
@@ -613,6 +795,23 @@ std::shared_ptr<const BuiltWorld> World::built(const shim::IsaKernels& kernels, 
   if (log.want_memory) summary += ", engine memory " + std::to_string(built->world->memory_bytes()) + " bytes";
   log.debug.push_back(std::move(summary));
   return built_;
+}
+
+std::shared_ptr<Clipping> World::build_clipping() const {
+  auto clipping = std::make_shared<Clipping>();
+  for (std::size_t i = 0; i < instances_.size(); ++i) {
+    const Instance& instance = *instances_[i];
+    const auto& models = instance.group()->clipping_models();
+    for (std::size_t k = 0; k < models.size(); ++k) {
+      try {
+        add_clipper(*clipping, *models[k], instance.transform());
+      } catch (const Error& e) {
+        throw Error(name() + ": the group of instance " + std::to_string(i) + ", parameter 'clippingGeometry' " +
+                    "element " + std::to_string(k) + " (" + models[k]->geometry()->name() + "): " + e.what());
+      }
+    }
+  }
+  return clipping->empty() ? nullptr : clipping;
 }
 
 void Renderer::on_commit() {

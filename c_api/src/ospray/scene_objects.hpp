@@ -107,6 +107,9 @@ public:
   std::optional<Vec3f> material_color() const;
   /// Per-primitive colours (RGBA), or empty.
   const PaddedVector<float>& face_colors() const { return face_colors_; }
+  /// `invertNormals`: as clipping geometry, the model clips its outside instead of its
+  /// inside (shading is two-sided, so it changes nothing else).
+  bool invert_normals() const { return invert_normals_; }
   std::uint64_t version() const override;
 
 protected:
@@ -116,20 +119,31 @@ private:
   Ref<Geometry> geometry_;
   Ref<Material> material_;
   PaddedVector<float> face_colors_;
+  bool invert_normals_ = false;
 };
 
 class Group : public Object {
 public:
   Group() : Object(OSP_GROUP, "") {}
+  /// `geometry`: the models the group renders.
   const std::vector<Ref<GeometricModel>>& models() const { return models_; }
+  /// `clippingGeometry`: models whose geometry, placed by each instance of the group,
+  /// clips the whole world; they are not rendered (unless also in `geometry`).
+  const std::vector<Ref<GeometricModel>>& clipping_models() const { return clipping_models_; }
+  /// The bounds of the rendered models (clipping geometry adds nothing).
   Box3f bounds() const;
+  /// Also counts the clipping models: a world rebuilds when one is recommitted.
   std::uint64_t version() const override;
+  /// What the group's engine form (its BVH) depends on: the group and its rendered
+  /// models, not its clipping models.
+  std::uint64_t geometry_version() const;
 
 protected:
   void on_commit() override;
 
 private:
   std::vector<Ref<GeometricModel>> models_;
+  std::vector<Ref<GeometricModel>> clipping_models_;
 };
 
 class Instance : public Object {
@@ -183,7 +197,8 @@ struct BuiltGroup {
 };
 
 /// The engine's form of a committed world: an engine world with one Embree instance per
-/// OSPRay instance of a group with geometry, over the groups' shared BVHs. Rebuilt (the
+/// OSPRay instance of a group with geometry, over the groups' shared BVHs, clipped by
+/// the clipping geometry of every instance's group (placed by the instance). Rebuilt (the
 /// top level only, and the groups that changed) when anything the world uses is
 /// recommitted, or when it is rendered with another ISA's kernels.
 struct BuiltWorld {
@@ -232,6 +247,9 @@ protected:
 
 private:
   std::shared_ptr<const BuiltGroup> build_group(Group& group, const shim::IsaKernels& kernels);
+  /// The clipping geometry of every instance's group, placed by the instance, in world
+  /// space; null when there is none.
+  std::shared_ptr<Clipping> build_clipping() const;
 
   std::vector<Ref<Instance>> instances_;
   std::vector<Ref<Light>> lights_;
