@@ -1,7 +1,8 @@
 #pragma once
 // The `scivis` renderer, first cut: OpenGL-like local shading of the first hit with
 // per-vertex or per-face colours, (interpolated) normals, one directional light and
-// ambient light, two-sided as visualization data is rarely closed. Later issues add
+// ambient light, two-sided as visualization data is rarely closed; volumes of a
+// VolumeWorld integrated in front of that hit and composited over it. Later issues add
 // shadows, ambient occlusion and transparency.
 #include <cmath>
 #include <limits>
@@ -10,6 +11,7 @@
 #include "sciray/math/affine.hpp"
 #include "sciray/math/vec.hpp"
 #include "sciray/render/sample.hpp"
+#include "sciray/volume/volumetric_model.hpp"
 
 namespace sciray {
 
@@ -22,6 +24,9 @@ struct SciVisParams {
   Vec3f light_direction{0.f, 0.f, -1.f};  ///< the direction the light travels (OSPRay 'distant')
   Vec3f light_color{1.f, 1.f, 1.f};
   float light_intensity = 0.8f;
+  float volume_sampling_rate = 1.f;   ///< OSPRay's volumeSamplingRate: samples per cell
+  bool empty_space_skipping = true;
+  bool volume_gradient_shading = false;
 };
 
 template <class Arch, class WorldT>
@@ -39,7 +44,14 @@ public:
     out.color = Vec3<F>(params_.background_color);
     out.alpha = F(params_.background_alpha);
     out.t = simd::select(hit.hit, hit.t, F(std::numeric_limits<float>::infinity()));
-    if (!simd::any(hit.hit)) return out;
+    if (simd::any(hit.hit)) shade_surfaces(ray, hit, out);
+    if constexpr (requires { world_->volume_count(); })
+      if (world_->volume_count()) composite_volumes(ray, active, out);
+    return out;
+  }
+
+private:
+  void shade_surfaces(const Ray<F>& ray, const accel::Hit<Arch>& hit, PixelSample<Arch>& out) const {
 
     // A packet usually hits one geometry; shade each (instance, geometry)'s lanes together.
     M remaining = hit.hit;
@@ -58,10 +70,24 @@ public:
       out.alpha = simd::select(lanes, F(1.f), out.alpha);
       remaining = remaining & !lanes;
     }
-    return out;
   }
 
-private:
+  /// Volumes in front of the surface hit (or the background), composited over it. Each
+  /// volume is integrated on its own, so overlapping volumes are composited in the order
+  /// they were added rather than interleaved.
+  void composite_volumes(const Ray<F>& ray, const M& active, PixelSample<Arch>& out) const {
+    VolumeIntegration how;
+    how.sampling_rate = params_.volume_sampling_rate;
+    how.empty_space_skipping = params_.empty_space_skipping;
+    how.gradient_shading = params_.volume_gradient_shading;
+    how.to_light = to_light_;
+    world_->for_each_volume([&](const auto& model) {
+      const VolumeSample<Arch> v = model.template integrate<Arch>(ray, active, out.t, how);
+      out.color = v.color + out.color * (F(1.f) - v.alpha);
+      out.alpha = v.alpha + out.alpha * (F(1.f) - v.alpha);
+    });
+  }
+
   template <class Surface>
   Vec3<F> shade(const Ray<F>& ray, const Surface& s) const {
     // Face the normal towards the viewer: both sides of a surface are lit.

@@ -15,7 +15,9 @@
 #include "sciray/geometry/triangle_mesh.hpp"
 #include "sciray/render/camera.hpp"
 #include "sciray/render/scivis.hpp"
+#include "sciray/scene/volume_world.hpp"
 #include "sciray/scene/world.hpp"
+#include "sciray/volume/structured_regular.hpp"
 #include "sciray/simd/arch.hpp"
 
 /// Marks what libsciray_ospray exports (it is built with hidden visibility).
@@ -23,8 +25,14 @@
 
 namespace sciray::shim {
 
-/// The full set of geometry types, as the C API and the tool need it.
-using EngineWorld = World<TriangleMesh, Spheres, Curves, Boxes, Planes>;
+/// The full set of geometry and volume types, as the C API and the tool need it: every
+/// voxel type in the linear (shared) and bricked layouts.
+using EngineWorld =
+    VolumeWorld<World<TriangleMesh, Spheres, Curves, Boxes, Planes>, StructuredRegular<std::uint8_t>,
+                StructuredRegular<std::int16_t>, StructuredRegular<std::uint16_t>, StructuredRegular<float>,
+                StructuredRegular<double>, StructuredRegular<std::uint8_t, BrickedLayout>,
+                StructuredRegular<std::int16_t, BrickedLayout>, StructuredRegular<std::uint16_t, BrickedLayout>,
+                StructuredRegular<float, BrickedLayout>, StructuredRegular<double, BrickedLayout>>;
 
 /// One ray's closest hit, as the packet paths report it (for cross-ISA checks).
 struct TraceResult {

@@ -1,0 +1,234 @@
+#pragma once
+// VolumetricModel<Volume> (OSPRay's VolumetricModel): a volume, its transfer function and
+// `densityScale`, and the packet ray marcher that integrates it.
+//
+// The integral: along each ray, emission-absorption with extinction σ(t) = opacity(v(t))
+// × densityScale per world unit; a step of length Δt absorbs α = 1 − exp(−σ Δt), which is
+// the exact opacity of a constant-σ step, so images converge as the sampling rate grows
+// instead of changing with it. Colour accumulates front to back; a ray stops when its
+// opacity passes 0.99 (early ray termination) or at the first surface hit behind it.
+//
+// Empty-space skipping: the volume is cut into macrocells of 8³ cells that record the range
+// of values inside (with the voxels trilinear samples read at their border); for the
+// current transfer function each macrocell knows the largest opacity it can produce. A
+// lane whose sample falls in a macrocell that cannot produce any skips every step whose
+// midpoint lies before the macrocell's exit, so skipping changes which samples are taken
+// but never their positions. The macrocell ranges are built once per volume; changing the transfer
+// function only re-derives the opacities.
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "sciray/error.hpp"
+#include "sciray/math/ray.hpp"
+#include "sciray/volume/structured_regular.hpp"
+#include "sciray/volume/transfer_function.hpp"
+
+namespace sciray {
+
+/// What one packet's march through a volume produced (premultiplied colour).
+template <class Arch>
+struct VolumeSample {
+  Vec3<simd::Float<Arch>> color;
+  simd::Float<Arch> alpha;
+};
+
+/// How a renderer asks a volume to be integrated.
+struct VolumeIntegration {
+  float sampling_rate = 1.f;          ///< OSPRay's volumeSamplingRate: samples per cell
+  bool empty_space_skipping = true;
+  bool gradient_shading = false;
+  Vec3f to_light{0.f, 0.f, 1.f};      ///< unit vector towards the distant light
+  float ambient = 0.3f, diffuse = 0.7f;
+};
+
+template <class Volume>
+class VolumetricModel {
+public:
+  static constexpr std::int64_t macrocell_cells = 8;
+
+  VolumetricModel(std::shared_ptr<const Volume> volume, TransferFunction transfer_function, float density_scale = 1.f)
+      : volume_(std::move(volume)), tf_(std::move(transfer_function)), density_scale_(density_scale) {
+    if (!volume_) throw Error("volumetric model: 'volume' is missing");
+    if (!(density_scale_ >= 0.f) || !std::isfinite(density_scale_))
+      throw Error("volumetric model: 'densityScale' must be finite and not negative");
+    build_macrocell_ranges();
+    derive_macrocell_opacities();
+  }
+
+  const Volume& volume() const { return *volume_; }
+  const TransferFunction& transfer_function() const { return tf_; }
+  float density_scale() const { return density_scale_; }
+  Box3f bounds() const { return volume_->bounds(); }
+  std::size_t owned_bytes() const { return (ranges_.size() * 2 + opacity_.size()) * sizeof(float); }
+
+  /// A new transfer function keeps the macrocell value ranges (the volume is unchanged).
+  void set_transfer_function(TransferFunction tf) {
+    tf_ = std::move(tf);
+    derive_macrocell_opacities();
+  }
+
+  /// The step between samples in world units for `sampling_rate` samples per cell.
+  float step(float sampling_rate) const {
+    const Vec3f& s = volume_->grid().spacing;
+    return std::min({s.x, s.y, s.z}) / sampling_rate;
+  }
+
+  /// Marches the active lanes from where they enter the volume to where they leave it or
+  /// reach `t_end` (the nearest surface).
+  template <class Arch>
+  VolumeSample<Arch> integrate(const Ray<simd::Float<Arch>>& ray, const simd::Mask<Arch>& active,
+                               const simd::Float<Arch>& t_end, const VolumeIntegration& how) const {
+    using F = simd::Float<Arch>;
+    using I = simd::Int<Arch>;
+    VolumeSample<Arch> out{Vec3<F>(Vec3f{0.f, 0.f, 0.f}), F(0.f)};
+    const Box3f box = bounds();
+    const Vec3<F> inv{F(1.f) / ray.dir.x, F(1.f) / ray.dir.y, F(1.f) / ray.dir.z};
+    const Vec3<F> t0 = (Vec3<F>(box.lower) - ray.org) * inv, t1 = (Vec3<F>(box.upper) - ray.org) * inv;
+    const Vec3<F> near = min(t0, t1), far = max(t0, t1);
+    const F enter = simd::max(simd::max(simd::max(near.x, near.y), near.z), ray.tnear);
+    const F leave = simd::min(simd::min(simd::min(far.x, far.y), far.z), simd::min(t_end, ray.tfar));
+    auto live = active & (enter < leave);
+    if (!simd::any(live)) return out;
+
+    const float dt = step(how.sampling_rate);
+    // Sample k stands for the step [enter + k·dt, enter + (k+1)·dt] cut at `leave`, and
+    // sits at its middle (the midpoint rule, exact for a linearly varying extinction).
+    F t = enter;
+    const F neg_density(-density_scale_);
+    // Macrocells are cut in voxel coordinates (voxel i at i), which for cell-centred data
+    // sit half a spacing inside the box.
+    const auto& grid = volume_->grid();
+    const Vec3f cell_size = grid.spacing * static_cast<float>(macrocell_cells);
+    const Vec3f grid_lower = grid.cell_centered ? grid.origin + grid.spacing * 0.5f : grid.origin;
+    while (simd::any(live)) {
+      const F step_end = simd::min(t + F(dt), leave);
+      const Vec3<F> p = ray.org + ray.dir * ((t + step_end) * F(0.5f));
+      auto sampled = live;
+      F next = t + F(dt);
+      if (how.empty_space_skipping) {
+        // The lane's macrocell, and whether the transfer function can show anything there.
+        const Vec3<F> m = volume_->to_voxel(p) * F(1.f / macrocell_cells);
+        const auto cell_index = [&](const F& v, int axis) {
+          return simd::to_int(simd::min(simd::max(v, F(0.f)), F(static_cast<float>(cells_[axis] - 1))));
+        };
+        const I cx = cell_index(m.x, 0), cy = cell_index(m.y, 1), cz = cell_index(m.z, 2);
+        const I index = (cz * I(static_cast<std::int32_t>(cells_[1])) + cy) * I(static_cast<std::int32_t>(cells_[0])) + cx;
+        const auto empty = live & (simd::gather<Arch>(opacity_.data(), index) <= F(0.f));
+        if (simd::any(empty)) {
+          // Skip the steps whose midpoints lie before the macrocell's exit along the ray.
+          const Vec3<F> lower{F(grid_lower.x) + simd::to_float(cx) * F(cell_size.x),
+                              F(grid_lower.y) + simd::to_float(cy) * F(cell_size.y),
+                              F(grid_lower.z) + simd::to_float(cz) * F(cell_size.z)};
+          const Vec3<F> upper = lower + Vec3<F>(cell_size);
+          const Vec3<F> exit_planes = select_positive(ray.dir, upper, lower);
+          const Vec3<F> te = (exit_planes - ray.org) * inv;
+          const F exit = simd::min(simd::min(te.x, te.y), te.z);
+          const F steps = simd::max(xsimd_ceil((exit - t) * F(1.f / dt) - F(0.5f)), F(1.f));
+          next = simd::select(empty, t + steps * F(dt), next);
+          sampled = sampled & !empty;
+        }
+      }
+      if (simd::any(sampled)) {
+        const F value = volume_->template sample<Arch>(p);
+        const F sigma = tf_.template opacity<Arch>(value);
+        const F alpha = F(1.f) - exp(sigma * neg_density * (step_end - t));
+        Vec3<F> color = tf_.template color<Arch>(value);
+        if (how.gradient_shading) color = color * shading<Arch>(p, ray.dir, how);
+        const F weight = simd::select(sampled, (F(1.f) - out.alpha) * alpha, F(0.f));
+        out.color = out.color + color * weight;
+        out.alpha = out.alpha + weight;
+      }
+      t = next;
+      live = live & (t < leave) & (out.alpha < F(0.99f));
+    }
+    return out;
+  }
+
+private:
+  template <class F>
+  static Vec3<F> select_positive(const Vec3<F>& dir, const Vec3<F>& a, const Vec3<F>& b) {
+    return {simd::select(dir.x >= F(0.f), a.x, b.x), simd::select(dir.y >= F(0.f), a.y, b.y),
+            simd::select(dir.z >= F(0.f), a.z, b.z)};
+  }
+  template <class F>
+  static F xsimd_ceil(const F& x) {
+    if constexpr (std::is_same_v<F, float>)
+      return std::ceil(x);
+    else
+      return xsimd::ceil(x);
+  }
+  template <class F>
+  static F exp(const F& x) {
+    if constexpr (std::is_same_v<F, float>)
+      return std::exp(x);
+    else
+      return xsimd::exp(x);
+  }
+
+  /// Lambert shading on the gradient, two-sided; where the field is flat the sample
+  /// keeps its colour (no direction to shade by).
+  template <class Arch>
+  simd::Float<Arch> shading(const Vec3<simd::Float<Arch>>& p, const Vec3<simd::Float<Arch>>& dir,
+                            const VolumeIntegration& how) const {
+    using F = simd::Float<Arch>;
+    const Vec3<F> g = volume_->template gradient<Arch>(p);
+    const F length_g = length(g);
+    const auto flat = length_g <= F(1e-12f);
+    const Vec3<F> n = g / simd::select(flat, F(1.f), length_g);
+    const F facing = simd::select(dot(n, dir) > F(0.f), F(-1.f), F(1.f));
+    const F lambert = simd::max(dot(n * facing, Vec3<F>(how.to_light)), F(0.f));
+    return simd::select(flat, F(1.f), F(how.ambient) + F(how.diffuse) * lambert);
+  }
+
+  void build_macrocell_ranges() {
+    const VolumeDims& d = volume_->dims();
+    for (int k = 0; k < 3; ++k) cells_[k] = std::max<std::int64_t>(1, (d[k] - 1 + macrocell_cells - 1) / macrocell_cells);
+    const std::size_t count = static_cast<std::size_t>(cells_[0] * cells_[1] * cells_[2]);
+    if (count > static_cast<std::size_t>(INT32_MAX)) throw Error("volume: too many macrocells for 32-bit indices");
+    ranges_.assign(2 * count, 0.f);
+    for (std::size_t i = 0; i < count; ++i)
+      ranges_[2 * i] = std::numeric_limits<float>::infinity(), ranges_[2 * i + 1] = -std::numeric_limits<float>::infinity();
+    // Every voxel widens the range of each macrocell whose samples can read it: those
+    // whose cells (plus one voxel of border for the trilinear neighbourhood) contain it.
+    for (std::int64_t z = 0; z < d[2]; ++z)
+      for (std::int64_t y = 0; y < d[1]; ++y)
+        for (std::int64_t x = 0; x < d[0]; ++x) {
+          const float v = volume_->voxel(x, y, z);
+          if (!std::isfinite(v))
+            throw Error("structuredRegular: voxel (" + std::to_string(x) + ", " + std::to_string(y) + ", " +
+                        std::to_string(z) + ") is not finite");
+          const std::int64_t at[3] = {x, y, z};
+          std::int64_t lo[3], hi[3];
+          for (int k = 0; k < 3; ++k) {
+            lo[k] = std::clamp<std::int64_t>((at[k] - 1) / macrocell_cells, 0, cells_[k] - 1);
+            hi[k] = std::clamp<std::int64_t>(at[k] / macrocell_cells, 0, cells_[k] - 1);
+          }
+          for (std::int64_t cz = lo[2]; cz <= hi[2]; ++cz)
+            for (std::int64_t cy = lo[1]; cy <= hi[1]; ++cy)
+              for (std::int64_t cx = lo[0]; cx <= hi[0]; ++cx) {
+                const std::size_t i = static_cast<std::size_t>((cz * cells_[1] + cy) * cells_[0] + cx);
+                ranges_[2 * i] = std::min(ranges_[2 * i], v);
+                ranges_[2 * i + 1] = std::max(ranges_[2 * i + 1], v);
+              }
+        }
+  }
+
+  void derive_macrocell_opacities() {
+    opacity_.resize(ranges_.size() / 2);
+    for (std::size_t i = 0; i < opacity_.size(); ++i)
+      opacity_[i] = density_scale_ * tf_.max_opacity(ranges_[2 * i], ranges_[2 * i + 1]);
+  }
+
+  std::shared_ptr<const Volume> volume_;
+  TransferFunction tf_;
+  float density_scale_;
+  std::array<std::int64_t, 3> cells_{};
+  std::vector<float> ranges_;   ///< min, max per macrocell
+  std::vector<float> opacity_;  ///< the largest σ the transfer function gives inside
+};
+
+}  // namespace sciray
