@@ -224,3 +224,23 @@ TEST_CASE("volume input is checked", "[volume][errors]") {
   CHECK_THROWS_WITH(VolumetricModel<Volume>(with_nan, TransferFunction({{1, 1, 1}}, {1.f}, {0.f, 1.f})),
                     Catch::Contains("voxel (1, 0, 1) is not finite"));
 }
+
+TEST_CASE("clipping geometry cuts volumes as it cuts surfaces", "[volume][clipping][render]") {
+  // The constant σ = 2 unit cube, the half z < 0.5 clipped by a plane: half the depth.
+  auto voxels = std::make_shared<std::vector<float>>(8, 1.f);
+  const auto volume = std::make_shared<StructuredRegular<float>>(LinearLayout<float>(voxels->data(), {2, 2, 2}, voxels),
+                                                                 VolumeGrid{});
+  accel::Device device;
+  shim::EngineWorld world(device);
+  world.add_volume(VolumetricModel<StructuredRegular<float>>(volume, TransferFunction({{1, 1, 1}}, {2.f}, {0.f, 2.f})));
+  auto clipping = std::make_shared<Clipping>();
+  clipping->add_plane({0.f, 0.f, 1.f}, -0.5f);
+  world.set_clipping(clipping);
+  SciVisParams params;
+  params.volume_sampling_rate = 10.f;  // steps of 0.1: the plane falls on a step boundary
+  for (auto isa : supported_isas()) {
+    INFO(simd::isa_name(isa));
+    const auto fb = render_volume(isa, world, params, 8);
+    for (int pixel = 0; pixel < 64; ++pixel) REQUIRE(fb.color32f()[4 * pixel + 3] == Approx(1.f - std::exp(-1.f)).epsilon(1e-4));
+  }
+}

@@ -81,6 +81,7 @@ private:
     how.empty_space_skipping = params_.empty_space_skipping;
     how.gradient_shading = params_.volume_gradient_shading;
     how.to_light = to_light_;
+    how.clipping = world_->clipping();
     world_->for_each_volume([&](const auto& model) {
       const VolumeSample<Arch> v = model.template integrate<Arch>(ray, active, out.t, how);
       out.color = v.color + out.color * (F(1.f) - v.alpha);

@@ -198,6 +198,9 @@ public:
     this->committed_ = false;
   }
 
+  /// The clipping in effect, or null.
+  const Clipping* clipping() const { return clipping_ && !clipping_->empty() ? clipping_.get() : nullptr; }
+
   /// What every query of this world passes to Embree: the clipping test, if any.
   accel::HitFilter hit_filter() const {
     if (!clipping_ || clipping_->empty()) return {};

@@ -24,6 +24,7 @@
 
 #include "sciray/error.hpp"
 #include "sciray/math/ray.hpp"
+#include "sciray/scene/clipping.hpp"
 #include "sciray/volume/structured_regular.hpp"
 #include "sciray/volume/transfer_function.hpp"
 
@@ -43,6 +44,7 @@ struct VolumeIntegration {
   bool gradient_shading = false;
   Vec3f to_light{0.f, 0.f, 1.f};      ///< unit vector towards the distant light
   float ambient = 0.3f, diffuse = 0.7f;
+  const Clipping* clipping = nullptr;  ///< samples inside its volumes are skipped
 };
 
 template <class Volume>
@@ -132,6 +134,7 @@ public:
           sampled = sampled & !empty;
         }
       }
+      if (how.clipping && simd::any(sampled)) sampled = sampled & !clipped<Arch>(p, sampled, *how.clipping);
       if (simd::any(sampled)) {
         const F value = volume_->template sample<Arch>(p);
         const F sigma = tf_.template opacity<Arch>(value);
@@ -167,6 +170,22 @@ private:
       return std::exp(x);
     else
       return xsimd::exp(x);
+  }
+
+  /// Which lanes' positions lie in a clipped region (tested lane by lane: clipping
+  /// meshes answer by tracing).
+  template <class Arch>
+  static simd::Mask<Arch> clipped(const Vec3<simd::Float<Arch>>& p, const simd::Mask<Arch>& lanes,
+                                  const Clipping& clipping) {
+    using F = simd::Float<Arch>;
+    constexpr int W = simd::width<Arch>;
+    alignas(64) float out[W];
+    for (int i = 0; i < W; ++i)
+      out[i] = simd::lane(lanes, i) &&
+                       clipping.clipped({simd::lane(p.x, i), simd::lane(p.y, i), simd::lane(p.z, i)})
+                   ? 1.f
+                   : 0.f;
+    return simd::load<Arch>(out) != F(0.f);
   }
 
   /// Lambert shading on the gradient, two-sided; where the field is flat the sample
