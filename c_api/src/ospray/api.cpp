@@ -286,8 +286,11 @@ OSPGeometry ospNewGeometry(const char* type) {
 }
 
 OSPVolume ospNewVolume(const char* type) {
-  return guarded("ospNewVolume", [&]() -> OSPVolume { unknown_type("volume", type_string(type), "none yet"); },
-                 OSPVolume{});
+  return guarded("ospNewVolume", [&] {
+    const std::string t = type_string(type);
+    if (t != "structuredRegular") unknown_type("volume", t, "structuredRegular");
+    return handle_of<OSPVolume>(new VolumeObject(t));
+  }, OSPVolume{});
 }
 
 OSPGeometricModel ospNewGeometricModel(OSPGeometry geometry) {
@@ -299,10 +302,13 @@ OSPGeometricModel ospNewGeometricModel(OSPGeometry geometry) {
   }, OSPGeometricModel{});
 }
 
-OSPVolumetricModel ospNewVolumetricModel(OSPVolume) {
-  return guarded("ospNewVolumetricModel",
-                 [&]() -> OSPVolumetricModel { throw Error("volumetric models are not supported yet"); },
-                 OSPVolumetricModel{});
+OSPVolumetricModel ospNewVolumetricModel(OSPVolume volume) {
+  return guarded("ospNewVolumetricModel", [&] {
+    if (volume) live_as<VolumeObject>(volume, OSP_VOLUME, "volume");
+    auto* model = new VolumetricModelObject();
+    if (volume) model->set_param("volume", OSP_VOLUME, &volume);
+    return handle_of<OSPVolumetricModel>(model);
+  }, OSPVolumetricModel{});
 }
 
 OSPMaterial ospNewMaterial(const char* type) {
@@ -314,8 +320,10 @@ OSPMaterial ospNewMaterial(const char* type) {
 }
 
 OSPTransferFunction ospNewTransferFunction(const char* type) {
-  return guarded("ospNewTransferFunction", [&]() -> OSPTransferFunction {
-    unknown_type("transfer function", type_string(type), "none yet");
+  return guarded("ospNewTransferFunction", [&] {
+    const std::string t = type_string(type);
+    if (t != "piecewiseLinear") unknown_type("transfer function", t, "piecewiseLinear");
+    return handle_of<OSPTransferFunction>(new TransferFunctionObject(t));
   }, OSPTransferFunction{});
 }
 
@@ -356,6 +364,8 @@ OSPBounds ospGetBounds(OSPObject object) {
       case OSP_GROUP: box = static_cast<Group&>(o).bounds(); break;
       case OSP_GEOMETRIC_MODEL: box = static_cast<GeometricModel&>(o).geometry()->bounds(); break;
       case OSP_GEOMETRY: box = static_cast<Geometry&>(o).bounds(); break;
+      case OSP_VOLUMETRIC_MODEL: box = static_cast<VolumetricModelObject&>(o).bounds(); break;
+      case OSP_VOLUME: box = static_cast<VolumeObject&>(o).bounds(); break;
       default: throw Error(o.name() + " has no bounds");
     }
     return OSPBounds{{box.lower.x, box.lower.y, box.lower.z}, {box.upper.x, box.upper.y, box.upper.z}};
@@ -493,6 +503,7 @@ OSPFuture ospRenderFrame(OSPFrameBuffer fb, OSPRenderer renderer, OSPCamera came
       const auto bg = in.renderer->background();
       params.background_color = {bg[0], bg[1], bg[2]};
       params.background_alpha = bg[3];
+      params.volume_sampling_rate = in.renderer->volume_sampling_rate();
       std::lock_guard lock(in.fb->mutex());
       try {
         dev.arena().execute([&] {

@@ -21,6 +21,14 @@ public:
   const std::array<std::uint64_t, 3>& counts() const { return counts_; }
   std::uint64_t size() const { return counts_[0] * counts_[1] * counts_[2]; }
   int dimensions() const { return counts_[2] > 1 ? 3 : (counts_[1] > 1 ? 2 : 1); }
+  /// Byte strides between neighbours along each dimension (compact ones filled in).
+  const std::array<std::int64_t, 3>& strides() const { return strides_; }
+  /// Whether the elements lie one after another, the first dimension fastest.
+  bool compact() const {
+    const auto element = static_cast<std::int64_t>(size_of(element_type_));
+    return strides_[0] == element && strides_[1] == element * static_cast<std::int64_t>(counts_[0]) &&
+           strides_[2] == strides_[1] * static_cast<std::int64_t>(counts_[1]);
+  }
   const std::byte* element(std::uint64_t i, std::uint64_t j = 0, std::uint64_t k = 0) const {
     return base_ + static_cast<std::int64_t>(i) * strides_[0] + static_cast<std::int64_t>(j) * strides_[1] +
            static_cast<std::int64_t>(k) * strides_[2];

@@ -81,6 +81,7 @@ std::string type_name(OSPDataType type) {
     case OSP_UINT: return "uint";
     case OSP_LONG: return "long";
     case OSP_ULONG: return "ulong";
+    case OSP_HALF: return "half";
     case OSP_FLOAT: return "float";
     case OSP_DOUBLE: return "double";
     case OSP_VEC2F: return "vec2f";
@@ -125,6 +126,9 @@ std::string Object::name() const {
   for (auto& c : kind) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   if (kind == "geometricmodel") kind = "geometric model";
   if (kind == "framebuffer") kind = "frame buffer";
+  if (kind == "volumetricmodel") kind = "volumetric model";
+  if (kind == "transferfunction") kind = "transfer function";
+  if (kind == "imageoperation") kind = "image operation";
   return subtype_.empty() ? kind : subtype_ + " " + kind;
 }
 

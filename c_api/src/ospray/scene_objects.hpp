@@ -1,11 +1,13 @@
 #pragma once
 // OSPRay's scene objects over sciray types: cameras, geometry (mesh, sphere, curve, box,
-// plane), geometric models, groups, instances, worlds, lights, materials and renderers.
-// Each reads its committed parameters in on_commit and names the parameter when one is
-// wrong.
+// plane), geometric models, volumes (structuredRegular), transfer functions
+// (piecewiseLinear), volumetric models, groups, instances, worlds, lights, materials and
+// renderers. Each reads its committed parameters in on_commit and names the parameter
+// when one is wrong.
 #include <map>
 #include <memory>
 #include <mutex>
+#include <variant>
 
 #include "data.hpp"
 #include "sciray/geometry/boxes.hpp"
@@ -16,8 +18,28 @@
 #include "sciray/render/camera.hpp"
 #include "sciray/render/scivis.hpp"
 #include "sciray/shim/engine.hpp"
+#include "sciray/volume/structured_regular.hpp"
+#include "sciray/volume/transfer_function.hpp"
+#include "sciray/volume/volumetric_model.hpp"
 
 namespace sciray::ospray {
+
+namespace detail {
+template <class W>
+struct VolumeTypesOf;
+/// The engine volume types the shim's world is composed with, as variants.
+template <class WorldT, class... Volumes>
+struct VolumeTypesOf<VolumeWorld<WorldT, Volumes...>> {
+  using Volume = std::variant<std::monostate, std::shared_ptr<const Volumes>...>;
+  using Model = std::variant<std::monostate, VolumetricModel<Volumes>...>;
+};
+}  // namespace detail
+
+/// A committed volume: one of the engine's volume types (every voxel type, linear or
+/// bricked), shared by the volumetric models that use it.
+using EngineVolume = detail::VolumeTypesOf<shim::EngineWorld>::Volume;
+/// A volumetric model of one of the engine's volume types.
+using EngineVolumetricModel = detail::VolumeTypesOf<shim::EngineWorld>::Model;
 
 class CameraObject : public Object {
 public:
@@ -122,17 +144,91 @@ private:
   bool invert_normals_ = false;
 };
 
+/// OSPRay's `structuredRegular` volume: a regular grid of uchar, short, ushort, float or
+/// double voxels, read in place from its `data` array where the array is compact (and
+/// `layout` is "linear"), otherwise copied.
+class VolumeObject : public Object {
+public:
+  explicit VolumeObject(std::string type) : Object(OSP_VOLUME, std::move(type)) {}
+  /// The engine volume as committed (monostate before the first commit).
+  const EngineVolume& volume() const { return volume_; }
+  /// Whether the last commit reads the application's array in place (no copy).
+  bool zero_copy() const { return zero_copy_; }
+  Box3f bounds() const { return bounds_; }
+
+protected:
+  void on_commit() override;
+
+private:
+  EngineVolume volume_;
+  bool zero_copy_ = false;
+  Box3f bounds_;
+};
+
+/// OSPRay's `piecewiseLinear` transfer function: `color`, `opacity` and `value`.
+class TransferFunctionObject : public Object {
+public:
+  explicit TransferFunctionObject(std::string type) : Object(OSP_TRANSFER_FUNCTION, std::move(type)) {}
+  /// As committed, or null before the first commit.
+  const std::shared_ptr<const TransferFunction>& transfer_function() const { return tf_; }
+
+protected:
+  void on_commit() override;
+
+private:
+  std::shared_ptr<const TransferFunction> tf_;
+};
+
+/// What a world build did with its volumetric models (for the debug summary).
+struct VolumeBuildStats {
+  std::size_t volumes = 0;               ///< models placed
+  std::size_t macrocells_built = 0;      ///< models rebuilt for a recommitted volume
+  std::size_t transfer_functions = 0;    ///< models given a recommitted transfer function
+};
+
+/// OSPRay's volumetric model: `volume`, `transferFunction`, `densityScale`. Its engine
+/// model (with the volume's macrocell value ranges) is built at commit and kept: a
+/// recommitted transfer function only re-derives the macrocells' opacities.
+class VolumetricModelObject : public Object {
+public:
+  VolumetricModelObject() : Object(OSP_VOLUMETRIC_MODEL, "") {}
+  VolumeObject* volume() const { return volume_.get(); }
+  float density_scale() const { return density_scale_; }
+  Box3f bounds() const { return volume_ ? volume_->bounds() : Box3f{}; }
+  std::uint64_t version() const override;
+  /// The engine model for the current commits of the volume and the transfer function:
+  /// rebuilt when the volume was recommitted, given the new transfer function (keeping
+  /// the macrocell ranges) when only that was. A copy, so frames in flight keep theirs.
+  EngineVolumetricModel engine_model(VolumeBuildStats& stats);
+
+protected:
+  void on_commit() override;
+
+private:
+  Ref<VolumeObject> volume_;
+  Ref<TransferFunctionObject> transfer_function_;
+  float density_scale_ = 1.f;
+  std::mutex mutex_;  ///< guards the engine model, which world builds refresh
+  EngineVolumetricModel model_;
+  std::uint64_t model_volume_version_ = 0;  ///< the volume commit the model was built from
+  std::uint64_t model_tf_version_ = 0;      ///< the transfer function commit it shows
+};
+
 class Group : public Object {
 public:
   Group() : Object(OSP_GROUP, "") {}
   /// `geometry`: the models the group renders.
   const std::vector<Ref<GeometricModel>>& models() const { return models_; }
+  /// `volume`: the volumetric models the group renders (placed directly in the engine
+  /// world, so only by instances with the identity transform).
+  const std::vector<Ref<VolumetricModelObject>>& volumes() const { return volumes_; }
   /// `clippingGeometry`: models whose geometry, placed by each instance of the group,
   /// clips the whole world; they are not rendered (unless also in `geometry`).
   const std::vector<Ref<GeometricModel>>& clipping_models() const { return clipping_models_; }
-  /// The bounds of the rendered models (clipping geometry adds nothing).
+  /// The bounds of the rendered models and volumes (clipping geometry adds nothing).
   Box3f bounds() const;
-  /// Also counts the clipping models: a world rebuilds when one is recommitted.
+  /// Also counts the clipping models and the volumes: a world rebuilds when one is
+  /// recommitted.
   std::uint64_t version() const override;
   /// What the group's engine form (its BVH) depends on: the group and its rendered
   /// models, not its clipping models.
@@ -144,6 +240,7 @@ protected:
 private:
   std::vector<Ref<GeometricModel>> models_;
   std::vector<Ref<GeometricModel>> clipping_models_;
+  std::vector<Ref<VolumetricModelObject>> volumes_;
 };
 
 class Instance : public Object {
@@ -198,9 +295,10 @@ struct BuiltGroup {
 
 /// The engine's form of a committed world: an engine world with one Embree instance per
 /// OSPRay instance of a group with geometry, over the groups' shared BVHs, clipped by
-/// the clipping geometry of every instance's group (placed by the instance). Rebuilt (the
-/// top level only, and the groups that changed) when anything the world uses is
-/// recommitted, or when it is rendered with another ISA's kernels.
+/// the clipping geometry of every instance's group (placed by the instance), plus a copy
+/// of the engine model of every volume of every instance's group (placed directly).
+/// Rebuilt (the top level only, and the groups that changed) when anything the world
+/// uses is recommitted, or when it is rendered with another ISA's kernels.
 struct BuiltWorld {
   std::shared_ptr<accel::Device> device;
   /// The groups the world's instances place (declared before `world`, which is
@@ -265,12 +363,15 @@ class Renderer : public Object {
 public:
   explicit Renderer(std::string type) : Object(OSP_RENDERER, std::move(type)) {}
   std::array<float, 4> background() const { return background_; }
+  /// `volumeSamplingRate`: samples per cell of a volume.
+  float volume_sampling_rate() const { return volume_sampling_rate_; }
 
 protected:
   void on_commit() override;
 
 private:
   std::array<float, 4> background_{0.f, 0.f, 0.f, 0.f};
+  float volume_sampling_rate_ = 1.f;
 };
 
 }  // namespace sciray::ospray
