@@ -10,7 +10,10 @@ Sweeps (each measured in one run on this machine):
   * throughput: primary-ray frames per ISA and the raw-Embree baseline (Google Benchmark,
     process CPU time, 1M-triangle torus);
   * threads: speed-up of a frame with 1..N threads;
-  * memory: bytes per triangle of mesh data and BVH.
+  * memory: bytes per triangle of mesh data and BVH;
+  * volume: RMSE of a direct volume rendering (neghip) against one at 8x the highest
+    sampling rate, against the sampling rate and the frame time, with and without
+    empty-space skipping.
 --smoke runs each sweep tiny (the test suite does, so that the pipeline cannot rot) and
 checks the results make sense. Writes charts.json with every figure next to the PNGs.
 """
@@ -120,6 +123,27 @@ def memory_sweep(build, tmp, smoke):
     return points
 
 
+def volume_sweep(build, tmp, smoke):
+    volume = os.path.join(DATA, "volumes", "neghip_66x66x66_uint8.raw")
+    size = "48x48" if smoke else "256x256"
+    rates = [0.25, 0.5, 1.0] if smoke else [0.125, 0.25, 0.5, 1.0, 2.0, 4.0, 8.0]
+    reference_rate = 8 * rates[-1]
+    reference_path = os.path.join(tmp, "volume_reference.pfm")
+    tool(build, volume, "--size", size, "--sampling-rate", str(reference_rate), "-o", reference_path)
+    reference = read_pfm(reference_path)
+    curves = {}
+    for label, extra in [("empty-space skipping", []), ("every sample", ["--no-empty-space-skipping"])]:
+        points = []
+        for rate in rates:
+            path = os.path.join(tmp, f"volume_{rate}.pfm")
+            report = tool(build, volume, "--size", size, "--sampling-rate", str(rate), "--frames", "3", "-o", path,
+                          *extra)
+            rmse = float(np.sqrt(np.mean((read_pfm(path) - reference) ** 2)))
+            points.append({"rate": rate, "ms": min(report["frame_ms"]), "rmse": rmse})
+        curves[label] = points
+    return {"size": size, "reference_rate": reference_rate, "curves": curves}
+
+
 def draw(results, out):
     fig, ax = plt.subplots(figsize=(6, 4))
     for isa, points in results["accumulation"]["curves"].items():
@@ -169,8 +193,28 @@ def draw(results, out):
     plt.close(fig)
 
 
+def draw_volume(results, out):
+    fig, (by_rate, by_time) = plt.subplots(1, 2, figsize=(10, 4))
+    for label, points in results["volume"]["curves"].items():
+        by_rate.loglog([p["rate"] for p in points], [p["rmse"] for p in points], "o-", label=label)
+        by_time.loglog([p["ms"] for p in points], [p["rmse"] for p in points], "o-", label=label)
+    by_rate.set_xlabel("volumeSamplingRate (samples per cell)")
+    by_time.set_xlabel("frame time (ms, 2 threads)")
+    for ax in (by_rate, by_time):
+        ax.set_ylabel("RMSE against a converged rendering")
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend()
+    fig.suptitle("Direct volume rendering: error against sampling rate and time (neghip)")
+    fig.tight_layout()
+    fig.savefig(os.path.join(out, "accuracy_volume.png"), dpi=100)
+    plt.close(fig)
+
+
 def check_smoke(results):
     problems = []
+    for label, points in results["volume"]["curves"].items():
+        if not points[-1]["rmse"] < points[0]["rmse"]:
+            problems.append(f"volume, {label}: error does not fall with the sampling rate: {points}")
     for isa, points in results["accumulation"]["curves"].items():
         if not points[-1]["rmse"] < points[0]["rmse"]:
             problems.append(f"{isa}: error does not fall with more frames: {points}")
@@ -194,8 +238,10 @@ def main():
             "throughput": throughput_sweep(args.build, tmp, args.smoke),
             "threads": thread_sweep(args.build, tmp, args.smoke),
             "memory": memory_sweep(args.build, tmp, args.smoke),
+            "volume": volume_sweep(args.build, tmp, args.smoke),
         }
     draw(results, args.out)
+    draw_volume(results, args.out)
     with open(os.path.join(args.out, "charts.json"), "w") as f:
         json.dump(results, f, indent=1)
     problems = check_smoke(results)

@@ -3,6 +3,7 @@
 include(CMakeFindDependencyMacro)
 find_dependency(embree 3)
 find_dependency(TBB)
+find_dependency(ZLIB)  # gzip-encoded NRRD volumes (io/volume.hpp)
 
 if(NOT TARGET sciray::xsimd)
   # Header-only; Debian's xsimd CMake target links a non-existent "xtl" library, so use

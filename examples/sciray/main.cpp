@@ -1,11 +1,13 @@
 // The `sciray` command-line tool: renders meshes, molecules (or a built-in scene) to
 // images and reports what the work cost.
 //   sciray info
-//   sciray render [MESH.ply|MOLECULE.pdb|builtin:NAME] [--camera cam.json] [--size WxH]
+//   sciray render [MESH.ply|MOLECULE.pdb|VOLUME.raw|VOLUME.nrrd|builtin:NAME] [--camera cam.json] [--size WxH]
 //                 [--isa auto|avx512|avx2|sse4.2|scalar] [--threads N] [--frames N]
 //                 [-o out.png|out.pfm] [--depth depth.pfm] [--json]
 //                 [--style ball-and-stick|space-filling] [--sphere-intersector sciray|embree]
 //                 [--clip-plane a,b,c,d]... [--clip-sphere x,y,z,r]...
+//                 [--tf tf.json] [--layout linear|bricked] [--density D] [--sampling-rate R] [--gradient-shading]
+//                 [--iso V]...
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -26,6 +28,7 @@
 #include "sciray/io/ply.hpp"
 #include "sciray/shim/engine.hpp"
 #include "sciray/testing/scenes.hpp"
+#include "volume_scene.hpp"
 
 namespace {
 
@@ -87,6 +90,10 @@ struct RenderOptions {
   std::vector<std::string> clip_planes;   ///< "a,b,c,d" each
   std::vector<std::string> clip_spheres;  ///< "x,y,z,r" each
   std::string sphere_intersector = "sciray";
+  sciray_tool::VolumeOptions volume;
+  float sampling_rate = 1.f;
+  bool gradient_shading = false;
+  bool no_empty_space_skipping = false;
 };
 
 /// `count` comma-separated numbers, as "--clip-plane 0,0,1,-0.5" gives them.
@@ -118,6 +125,11 @@ sciray::SphereIntersector parse_intersector(const std::string& name) {
   throw sciray::Error("--sphere-intersector: expected sciray or embree, got '" + name + "'");
 }
 
+bool is_volume_file(const std::string& path) {
+  const auto ext = std::filesystem::path(path).extension();
+  return ext == ".raw" || ext == ".nrrd" || ext == ".nhdr";
+}
+
 int render(const RenderOptions& opt) {
   const auto [width, height] = parse_size(opt.size);
   if (opt.frames < 1) throw sciray::Error("--frames must be at least 1");
@@ -142,13 +154,15 @@ int render(const RenderOptions& opt) {
       auto molecule = sciray::molecule_geometry(sciray::io::read_pdb(opt.mesh), sciray::parse_molecule_style(opt.style));
       scene.spheres = std::move(molecule.atoms);
       scene.curves = std::move(molecule.bonds);
-    } else {
+    } else if (!is_volume_file(opt.mesh)) {
       scene.mesh = sciray::io::read_ply(opt.mesh);
     }
-    const double load_ms = ms_since(start);
 
     sciray::accel::Device device;
     sciray::shim::EngineWorld world(device);
+    std::optional<sciray_tool::VolumeInfo> volume;
+    if (is_volume_file(opt.mesh)) volume = sciray_tool::add_volume_file(world, opt.mesh, opt.volume);
+    const double load_ms = ms_since(start);
     // The scene's geometry goes into the world, or into one group the world instances.
     auto group = std::make_shared<sciray::shim::EngineWorld::GroupType>(device);
     sciray::shim::EngineWorld::GroupType& target = scene.instances.empty() ? world : *group;
@@ -199,6 +213,9 @@ int render(const RenderOptions& opt) {
     const sciray::Vec3f right = normalize(cross(forward, view.up));
     const sciray::Vec3f up = cross(right, forward);
     params.light_direction = normalize(forward + right * 0.5f - up * 0.7f);
+    params.volume_sampling_rate = opt.sampling_rate;
+    params.volume_gradient_shading = opt.gradient_shading;
+    params.empty_space_skipping = !opt.no_empty_space_skipping;
 
     sciray::FrameBuffer fb(width, height, float_output ? sciray::ColorFormat::rgba32f : sciray::ColorFormat::srgba);
     std::vector<double> frame_ms;
@@ -212,6 +229,7 @@ int render(const RenderOptions& opt) {
 
     const std::size_t total_bytes = world.memory_bytes();
     const std::size_t bvh_bytes = static_cast<std::size_t>(std::max<std::int64_t>(0, device.bytes_in_use()));
+    const auto primitives = static_cast<double>(triangles + spheres + curve_segments + boxes);
     report = {{"file", opt.mesh.empty() ? "builtin:wavy_torus" : opt.mesh},
               {"output", opt.output},
               {"isa", std::string(sciray::simd::isa_name(isa))},
@@ -225,13 +243,15 @@ int render(const RenderOptions& opt) {
               {"curve_segments", curve_segments},
               {"boxes", boxes},
               {"instances", world.instance_count()},
+              {"volumes", world.volume_count()},
               {"sphere_intersector", opt.sphere_intersector},
               {"load_ms", load_ms},
               {"bvh_build_ms", build_ms},
               {"frame_ms", frame_ms},
               {"memory_bytes", {{"geometry", total_bytes - bvh_bytes}, {"bvh", bvh_bytes}, {"total", total_bytes}}},
-              {"bytes_per_primitive",
-               static_cast<double>(total_bytes) / static_cast<double>(triangles + spheres + curve_segments + boxes)}};
+              {"volume", volume ? nlohmann::json{{"dims", volume->dims}, {"type", volume->type}} : nlohmann::json()},
+              {"bytes_per_primitive", primitives ? nlohmann::json(static_cast<double>(total_bytes) / primitives)
+                                                 : nlohmann::json()}};
   });
   if (opt.json) {
     std::cout << report.dump() << "\n";
@@ -270,7 +290,7 @@ int main(int argc, char** argv) {
   RenderOptions opt;
   auto* render_cmd = app.add_subcommand("render", "Render a mesh (or the built-in scene) to an image");
   render_cmd->add_option("mesh", opt.mesh,
-                         "PLY mesh, PDB molecule, or builtin:NAME (torus_1M, cornell_box, spheres_1M, streamlines, bunny, "
+                         "PLY mesh, PDB molecule, raw/NRRD volume, or builtin:NAME (torus_1M, cornell_box, spheres_1M, streamlines, bunny, "
                          "...); "
                          "without it, the default scene");
   render_cmd->add_option("--camera", opt.camera, "camera JSON {position, look_at, up, fovy}");
@@ -282,6 +302,14 @@ int main(int argc, char** argv) {
   render_cmd->add_option("--depth", opt.depth, "also write Euclidean depth to this .pfm");
   render_cmd->add_flag("--json", opt.json, "print timings and sizes as one JSON object");
   render_cmd->add_option("--style", opt.style, "molecules: ball-and-stick or space-filling");
+  render_cmd->add_option("--tf", opt.volume.tf, "volumes: transfer function JSON {colors, opacities, range}");
+  render_cmd->add_option("--layout", opt.volume.layout, "volumes: linear (in place) or bricked");
+  render_cmd->add_option("--density", opt.volume.density, "volumes: densityScale (default: from the size)");
+  render_cmd->add_option("--sampling-rate", opt.sampling_rate, "volumes: samples per cell");
+  render_cmd->add_option("--iso", opt.volume.isovalues, "volumes: render the isosurface of this value (repeatable)");
+  render_cmd->add_flag("--gradient-shading", opt.gradient_shading, "volumes: shade by the gradient");
+  render_cmd->add_flag("--no-empty-space-skipping", opt.no_empty_space_skipping,
+                       "volumes: take every sample (for measuring what skipping saves)");
   render_cmd->add_option("--clip-plane", opt.clip_planes, "a,b,c,d: clip where a*x+b*y+c*z+d < 0 (repeatable)");
   render_cmd->add_option("--clip-sphere", opt.clip_spheres, "x,y,z,r: clip inside the sphere (repeatable)");
   render_cmd->add_option("--sphere-intersector", opt.sphere_intersector,

@@ -151,6 +151,35 @@ TEST_CASE("sciray render: instances and clipping", "[tool][instancing][clipping]
   CHECK(covered_half > covered_whole / 4);
 }
 
+TEST_CASE("sciray render: volumes through a transfer function and as isosurfaces", "[tool][volume]") {
+  const auto out = scratch("neghip.pfm");
+  const Run dvr = run_tool("render " SCIRAY_DATA_DIR "/volumes/neghip_66x66x66_uint8.raw --size 48x48 --json --layout bricked "
+                           "--sampling-rate 2 -o " + out.string());
+  INFO(dvr.output);
+  REQUIRE(dvr.exit_code == 0);
+  const auto report = nlohmann::json::parse(dvr.output);
+  CHECK(report["volumes"] == 1);
+  CHECK(report["volume"]["dims"] == nlohmann::json::array({66, 66, 66}));
+  CHECK(report["volume"]["type"] == "uint8");
+  // Bricked voxels are a copy: at least the 66³ bytes.
+  CHECK(report["memory_bytes"]["total"].get<double>() >= 66.0 * 66 * 66);
+  const auto image = sciray::io::read_pfm(out);
+  CHECK(image.at(24, 24, 1) != image.at(0, 0, 1));  // the protein's density shows in the middle
+
+  const auto tf = scratch("tf.json");
+  std::ofstream(tf) << R"({"colors": [[1, 0, 0], [1, 1, 0]], "opacities": [0, 0.2, 1], "range": [50, 200]})";
+  const Run custom = run_tool("render " SCIRAY_DATA_DIR "/volumes/hydrogen_64x64x64_float32.raw --size 32x32 --tf " +
+                              tf.string() + " -o " + scratch("hydrogen.png").string());
+  INFO(custom.output);
+  CHECK(custom.exit_code == 0);
+
+  const Run iso = run_tool("render " SCIRAY_DATA_DIR "/volumes/headsq_64x64x93_uint16.raw --iso 1000 --size 48x48 --json -o " +
+                           scratch("headsq.png").string());
+  INFO(iso.output);
+  REQUIRE(iso.exit_code == 0);
+  CHECK(nlohmann::json::parse(iso.output)["volumes"] == 0);  // surfaces only
+}
+
 TEST_CASE("sciray reports bad input clearly", "[tool][errors]") {
   const auto truncated = scratch("truncated.ply");
   {
@@ -180,6 +209,9 @@ TEST_CASE("sciray reports bad input clearly", "[tool][errors]") {
       {"render " SCIRAY_DATA_DIR "/molecules/2LYZ.pdb --sphere-intersector naive", "--sphere-intersector"},
       {"render " + truncated_pdb.string(), "truncated.pdb: line"},
       {"render --size 8x8 --clip-plane 1,0,0", "--clip-plane: expected 4 comma-separated numbers"},
+      {"render " SCIRAY_DATA_DIR "/volumes/neghip_66x66x66_uint8.raw --layout diagonal --size 8x8", "--layout"},
+      {"render " SCIRAY_DATA_DIR "/volumes/neghip_66x66x66_uint8.raw --tf " + bad_camera.string() + " --size 8x8",
+       "expected an object with \"colors\" and \"opacities\""},
       {"render --size 8x8 --clip-sphere 0,0,0,x", "--clip-sphere: 'x' is not a finite number"},
       {"render --size 8x8 --clip-sphere 0,0,0,-1", "positive radius"},
   };

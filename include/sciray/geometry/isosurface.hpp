@@ -42,6 +42,7 @@ public:
     load_cell_ = [](const void* v, std::int64_t x, std::int64_t y, std::int64_t z, float out[8]) {
       static_cast<const Volume*>(v)->layout().cell(x, y, z, out);
     };
+    gradient_ = [](const void* v, const Vec3f& p) { return static_cast<const Volume*>(v)->template gradient<simd::scalar>(p); };
     bounds_ = volume->bounds();
     if (isovalues_.empty()) throw Error("isosurface: 'isovalue' is missing or empty");
     for (std::size_t i = 0; i < isovalues_.size(); ++i)
@@ -181,10 +182,14 @@ private:
         PrimitiveHit<simd::scalar> h;
         h.hit = true;
         h.t = best;
-        const Vec3f p = o + d * best;
-        const Vec3f g = cell_gradient(c, {p.x - cell[0], p.y - cell[1], p.z - cell[2]});
-        h.ng = g * inv_spacing;  // the world-space gradient: the surface normal
-        if (h.ng.x == 0.f && h.ng.y == 0.f && h.ng.z == 0.f) h.ng = -ray.dir;
+        // The normal: the gradient by central differences, which unlike the cell's own
+        // trilinear gradient is continuous across cells (no faceting).
+        h.ng = gradient_(volume_.get(), ray.org + ray.dir * best);
+        if (!(dot(h.ng, h.ng) > 0.f)) {
+          const Vec3f p = o + d * best;
+          h.ng = cell_gradient(c, {p.x - cell[0], p.y - cell[1], p.z - cell[2]}) * inv_spacing;
+        }
+        if (!(dot(h.ng, h.ng) > 0.f)) h.ng = -ray.dir;
         return h;
       }
       cell[axis] += step[axis];
@@ -262,6 +267,7 @@ private:
   VolumeDims dims_;
   VolumeGrid grid_;
   void (*load_cell_)(const void*, std::int64_t, std::int64_t, std::int64_t, float*) = nullptr;
+  Vec3f (*gradient_)(const void*, const Vec3f&) = nullptr;
   Box3f bounds_;
   std::array<std::int64_t, 3> cells_{};
   std::vector<std::uint32_t> active_;

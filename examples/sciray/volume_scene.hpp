@@ -1,0 +1,115 @@
+#pragma once
+// The sciray tool's volumes: a raw or NRRD file becomes a StructuredRegular of its voxel
+// type in the layout asked for, rendered through a transfer function from a JSON file (or
+// a default one spread over the data's value range), or as isosurfaces.
+#include <array>
+#include <cstdint>
+#include <fstream>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "sciray/io/volume.hpp"
+#include "sciray/shim/engine.hpp"
+#include "sciray/testing/scenes.hpp"
+
+namespace sciray_tool {
+
+struct VolumeOptions {
+  std::string tf;                 ///< transfer function JSON, or empty for the default
+  std::string layout = "linear";  ///< or "bricked"
+  float density = 0.f;            ///< densityScale; 0: a default from the volume's size
+  std::vector<float> isovalues;   ///< isosurfaces instead of volume rendering
+};
+
+/// {"colors": [[r, g, b], ...], "opacities": [a, ...], "range": [lo, hi]}; "range" may be
+/// left out to use the data's.
+inline sciray::TransferFunction read_transfer_function(const std::string& file, std::array<float, 2> data_range) {
+  std::ifstream in(file);
+  if (!in) throw sciray::Error(file + ": cannot open transfer function file");
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(in);
+  } catch (const nlohmann::json::parse_error& e) {
+    throw sciray::Error(file + ": invalid JSON: " + e.what());
+  }
+  const auto numbers = [&](const nlohmann::json& v, const std::string& what) {
+    if (!v.is_array()) throw sciray::Error(file + ": " + what + " must be an array of numbers");
+    std::vector<float> out;
+    for (const auto& x : v) {
+      if (!x.is_number()) throw sciray::Error(file + ": " + what + " must be an array of numbers");
+      out.push_back(x.get<float>());
+    }
+    return out;
+  };
+  if (!j.is_object() || !j.contains("colors") || !j.contains("opacities"))
+    throw sciray::Error(file + ": expected an object with \"colors\" and \"opacities\"");
+  std::vector<sciray::Vec3f> colors;
+  for (const auto& c : j["colors"]) {
+    const auto rgb = numbers(c, "each of \"colors\"");
+    if (rgb.size() != 3) throw sciray::Error(file + ": each of \"colors\" must be [r, g, b]");
+    colors.push_back({rgb[0], rgb[1], rgb[2]});
+  }
+  std::array<float, 2> range = data_range;
+  if (j.contains("range")) {
+    const auto r = numbers(j["range"], "\"range\"");
+    if (r.size() != 2) throw sciray::Error(file + ": \"range\" must be [lo, hi]");
+    range = {r[0], r[1]};
+  }
+  return {std::move(colors), numbers(j["opacities"], "\"opacities\""), range};
+}
+
+/// The colour map of the test scenes with opacity rising linearly over the value range.
+inline sciray::TransferFunction default_transfer_function(std::array<float, 2> range) {
+  std::vector<sciray::Vec3f> colors;
+  for (int i = 0; i < 8; ++i) colors.push_back(sciray::testing::colormap(static_cast<float>(i) / 7.f));
+  if (!(range[0] < range[1])) range[1] = range[0] + 1.f;
+  return {std::move(colors), {0.f, 1.f}, range};
+}
+
+struct VolumeInfo {
+  sciray::VolumeDims dims;
+  std::string type;
+};
+
+/// Loads `path` and adds it to `world`: its isosurfaces if isovalues are given, else the
+/// volume rendered through its transfer function.
+inline VolumeInfo add_volume_file(sciray::shim::EngineWorld& world, const std::string& path, const VolumeOptions& opt) {
+  using namespace sciray;
+  const io::VolumeFile file = io::read_volume(path);
+  if (opt.layout != "linear" && opt.layout != "bricked")
+    throw Error("--layout: expected linear or bricked, got '" + opt.layout + "'");
+  const auto add = [&](auto voxel_tag) {
+    using Voxel = decltype(voxel_tag);
+    const auto* voxels = reinterpret_cast<const Voxel*>(file.voxels->data());
+    const auto add_model = [&](auto volume) {
+      if (!opt.isovalues.empty()) {
+        world.add(Isosurface(volume, opt.isovalues));
+        return;
+      }
+      const std::array<float, 2> range = file.range ? *file.range : volume->value_range();
+      TransferFunction tf = opt.tf.empty() ? default_transfer_function(range) : read_transfer_function(opt.tf, range);
+      // By default the densest value absorbs 1 − e⁻⁴ over the volume's diagonal.
+      const float density = opt.density > 0.f ? opt.density : 4.f / length(volume->bounds().size());
+      world.add_volume(VolumetricModel(volume, std::move(tf), density));
+    };
+    if (opt.layout == "bricked")
+      add_model(std::make_shared<const StructuredRegular<Voxel, BrickedLayout>>(
+          BrickedLayout<Voxel>(voxels, file.dims), file.grid));
+    else
+      add_model(std::make_shared<const StructuredRegular<Voxel>>(LinearLayout<Voxel>(voxels, file.dims, file.voxels),
+                                                                 file.grid));
+  };
+  switch (file.kind) {
+    case io::VoxelKind::uint8: add(std::uint8_t{}); break;
+    case io::VoxelKind::int16: add(std::int16_t{}); break;
+    case io::VoxelKind::uint16: add(std::uint16_t{}); break;
+    case io::VoxelKind::float32: add(float{}); break;
+    case io::VoxelKind::float64: add(double{}); break;
+  }
+  return {file.dims, std::string(io::voxel_kind_name(file.kind))};
+}
+
+}  // namespace sciray_tool
