@@ -12,8 +12,8 @@ Sweeps (each measured in one run on this machine):
   * threads: speed-up of a frame with 1..N threads;
   * memory: bytes per triangle of mesh data and BVH;
   * volume: RMSE of a direct volume rendering (neghip) against one at 8x the highest
-    sampling rate, against the sampling rate and the frame time, with and without
-    empty-space skipping.
+    sampling rate, against the sampling rate and the frame time: midpoint sampling with
+    and without empty-space skipping, and pre-integrated.
 --smoke runs each sweep tiny (the test suite does, so that the pipeline cannot rot) and
 checks the results make sense. Writes charts.json with every figure next to the PNGs.
 """
@@ -128,16 +128,25 @@ def volume_sweep(build, tmp, smoke):
     size = "48x48" if smoke else "256x256"
     rates = [0.25, 0.5, 1.0] if smoke else [0.125, 0.25, 0.5, 1.0, 2.0, 4.0, 8.0]
     reference_rate = 8 * rates[-1]
+    # A transfer function with narrow features, as isovalue-like highlighting makes them:
+    # two opacity peaks 1/64 of the value range wide.
+    tf = os.path.join(tmp, "tf.json")
+    opacities = [0.0] * 65
+    opacities[24], opacities[40] = 0.5, 1.0
+    with open(tf, "w") as f:
+        json.dump({"colors": [[0.2, 0.4, 1.0], [1.0, 0.9, 0.3], [1.0, 0.3, 0.1]], "opacities": opacities,
+                   "range": [0, 255]}, f)
+    common = ["--size", size, "--tf", tf, "--density", "2"]
     reference_path = os.path.join(tmp, "volume_reference.pfm")
-    tool(build, volume, "--size", size, "--sampling-rate", str(reference_rate), "-o", reference_path)
+    tool(build, volume, *common, "--sampling-rate", str(reference_rate), "-o", reference_path)
     reference = read_pfm(reference_path)
     curves = {}
-    for label, extra in [("empty-space skipping", []), ("every sample", ["--no-empty-space-skipping"])]:
+    for label, extra in [("empty-space skipping", []), ("every sample", ["--no-empty-space-skipping"]),
+                         ("pre-integrated", ["--preintegration"])]:
         points = []
         for rate in rates:
             path = os.path.join(tmp, f"volume_{rate}.pfm")
-            report = tool(build, volume, "--size", size, "--sampling-rate", str(rate), "--frames", "3", "-o", path,
-                          *extra)
+            report = tool(build, volume, *common, "--sampling-rate", str(rate), "--frames", "3", "-o", path, *extra)
             rmse = float(np.sqrt(np.mean((read_pfm(path) - reference) ** 2)))
             points.append({"rate": rate, "ms": min(report["frame_ms"]), "rmse": rmse})
         curves[label] = points

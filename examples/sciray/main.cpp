@@ -7,7 +7,7 @@
 //                 [--style ball-and-stick|space-filling] [--sphere-intersector sciray|embree]
 //                 [--clip-plane a,b,c,d]... [--clip-sphere x,y,z,r]...
 //                 [--tf tf.json] [--layout linear|bricked] [--density D] [--sampling-rate R] [--gradient-shading]
-//                 [--iso V]...
+//                 [--iso V]... [--preintegration] [--no-empty-space-skipping]
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -94,6 +94,7 @@ struct RenderOptions {
   float sampling_rate = 1.f;
   bool gradient_shading = false;
   bool no_empty_space_skipping = false;
+  bool preintegration = false;
 };
 
 /// `count` comma-separated numbers, as "--clip-plane 0,0,1,-0.5" gives them.
@@ -216,6 +217,7 @@ int render(const RenderOptions& opt) {
     params.volume_sampling_rate = opt.sampling_rate;
     params.volume_gradient_shading = opt.gradient_shading;
     params.empty_space_skipping = !opt.no_empty_space_skipping;
+    params.volume_preintegration = opt.preintegration;
 
     sciray::FrameBuffer fb(width, height, float_output ? sciray::ColorFormat::rgba32f : sciray::ColorFormat::srgba);
     std::vector<double> frame_ms;
@@ -308,6 +310,8 @@ int main(int argc, char** argv) {
   render_cmd->add_option("--sampling-rate", opt.sampling_rate, "volumes: samples per cell");
   render_cmd->add_option("--iso", opt.volume.isovalues, "volumes: render the isosurface of this value (repeatable)");
   render_cmd->add_flag("--gradient-shading", opt.gradient_shading, "volumes: shade by the gradient");
+  render_cmd->add_flag("--preintegration", opt.preintegration,
+                       "volumes: integrate the transfer function over each step (accurate at coarse steps)");
   render_cmd->add_flag("--no-empty-space-skipping", opt.no_empty_space_skipping,
                        "volumes: take every sample (for measuring what skipping saves)");
   render_cmd->add_option("--clip-plane", opt.clip_planes, "a,b,c,d: clip where a*x+b*y+c*z+d < 0 (repeatable)");

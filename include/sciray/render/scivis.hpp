@@ -27,6 +27,7 @@ struct SciVisParams {
   float volume_sampling_rate = 1.f;   ///< OSPRay's volumeSamplingRate: samples per cell
   bool empty_space_skipping = true;
   bool volume_gradient_shading = false;
+  bool volume_preintegration = false;  ///< see VolumeIntegration::preintegration
 };
 
 template <class Arch, class WorldT>
@@ -82,6 +83,7 @@ private:
     how.gradient_shading = params_.volume_gradient_shading;
     how.to_light = to_light_;
     how.clipping = world_->clipping();
+    how.preintegration = params_.volume_preintegration;
     world_->for_each_volume([&](const auto& model) {
       const VolumeSample<Arch> v = model.template integrate<Arch>(ray, active, out.t, how);
       out.color = v.color + out.color * (F(1.f) - v.alpha);
