@@ -52,9 +52,30 @@ void trace(const EngineWorld& world, std::span<const Ray<float>> rays, std::span
   }
 }
 
+template <class Arch, class Volume>
+void sample_volume(const Volume& volume, std::span<const Vec3f> positions, std::span<float> out) {
+  constexpr int W = simd::width<Arch>;
+  for (std::size_t first = 0; first < positions.size(); first += W) {
+    const int count = static_cast<int>(std::min<std::size_t>(W, positions.size() - first));
+    alignas(64) float x[W], y[W], z[W], values[W];
+    for (int i = 0; i < W; ++i) {
+      const Vec3f& p = positions[first + std::min(i, count - 1)];
+      x[i] = p.x, y[i] = p.y, z[i] = p.z;
+    }
+    const Vec3<simd::Float<Arch>> p{simd::load<Arch>(x), simd::load<Arch>(y), simd::load<Arch>(z)};
+    simd::store<Arch>(values, volume.template sample<Arch>(p));
+    std::copy_n(values, count, out.begin() + static_cast<std::ptrdiff_t>(first));
+  }
+}
+
 template <class Arch>
 IsaKernels make_kernels(simd::Isa isa) {
-  return {isa, &commit<Arch>, &render_scivis<Arch>, &trace<Arch>};
+  return {isa,
+          &commit<Arch>,
+          &render_scivis<Arch>,
+          &sample_volume<Arch, StructuredRegular<float>>,
+          &sample_volume<Arch, StructuredRegular<float, BrickedLayout>>,
+          &trace<Arch>};
 }
 
 }  // namespace sciray::shim

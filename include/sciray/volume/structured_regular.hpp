@@ -85,20 +85,29 @@ public:
   const VolumeDims& dims() const { return dims_; }
   float at(std::int64_t x, std::int64_t y, std::int64_t z) const { return static_cast<float>(voxels_[index(x, y, z)]); }
   void cell(std::int64_t x, std::int64_t y, std::int64_t z, float out[8]) const {
+    if ((x & (brick - 1)) != brick - 1 && (y & (brick - 1)) != brick - 1 && (z & (brick - 1)) != brick - 1) {
+      // The usual case: the cell lies inside one brick, whose voxels are x fastest.
+      const Voxel* p = voxels_.data() + index(x, y, z);
+      constexpr std::int64_t row = brick, slice = brick * brick;
+      out[0] = static_cast<float>(p[0]), out[1] = static_cast<float>(p[1]);
+      out[2] = static_cast<float>(p[row]), out[3] = static_cast<float>(p[row + 1]);
+      out[4] = static_cast<float>(p[slice]), out[5] = static_cast<float>(p[slice + 1]);
+      out[6] = static_cast<float>(p[slice + row]), out[7] = static_cast<float>(p[slice + row + 1]);
+      return;
+    }
     for (int k = 0; k < 8; ++k) out[k] = at(x + (k & 1), y + ((k >> 1) & 1), z + (k >> 2));
   }
   std::size_t owned_bytes() const { return voxels_.size() * sizeof(Voxel); }
 
 private:
+  // Indices are never negative: shifts and masks (the sizes are powers of two).
   std::size_t index(std::int64_t x, std::int64_t y, std::int64_t z) const {
-    const std::int64_t sx = x / super, sy = y / super, sz = z / super;
-    const std::int64_t bx = (x / brick) % bricks_per_super, by = (y / brick) % bricks_per_super,
-                       bz = (z / brick) % bricks_per_super;
-    const std::int64_t superbrick = (sz * supers_[1] + sy) * supers_[0] + sx;
-    const std::int64_t in_super = (bz * bricks_per_super + by) * bricks_per_super + bx;
-    const std::int64_t in_brick = ((z % brick) * brick + (y % brick)) * brick + (x % brick);
-    return static_cast<std::size_t>((superbrick * super * super * super) + in_super * brick * brick * brick + in_brick);
+    const std::int64_t superbrick = ((z >> 5) * supers_[1] + (y >> 5)) * supers_[0] + (x >> 5);
+    const std::int64_t in_super = ((((z >> 3) & 3) << 2 | ((y >> 3) & 3)) << 2) | ((x >> 3) & 3);
+    const std::int64_t in_brick = ((z & 7) << 6) | ((y & 7) << 3) | (x & 7);
+    return static_cast<std::size_t>((superbrick << 15) | (in_super << 9) | in_brick);
   }
+  static_assert(brick == 8 && bricks_per_super == 4, "index() spells out these sizes as shifts");
 
   VolumeDims dims_;
   std::array<std::int64_t, 3> supers_{};

@@ -52,6 +52,11 @@ struct IsaKernels {
   /// (optional) reports progress and cancels.
   void (*render_scivis)(const EngineWorld& world, const SciVisParams& params, const Camera& camera, FrameBuffer& fb,
                         FrameControl* control);
+  /// Samples a float volume (linear or bricked layout) at `positions`, in packets of this
+  /// ISA's width (for measuring the sampler; renderers sample inside their kernels).
+  void (*sample_volume)(const StructuredRegular<float>& volume, std::span<const Vec3f> positions, std::span<float> out);
+  void (*sample_bricked_volume)(const StructuredRegular<float, BrickedLayout>& volume, std::span<const Vec3f> positions,
+                                std::span<float> out);
   /// Traces arbitrary rays in packets of this ISA's width.
   void (*trace)(const EngineWorld& world, std::span<const Ray<float>> rays, std::span<TraceResult> results);
 };
