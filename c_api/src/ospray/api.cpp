@@ -80,6 +80,14 @@ std::string type_string(const char* type) {
   throw Error(std::string("unknown ") + family + " type '" + type + "' (sciray supports: " + known + ")");
 }
 
+/// The point of the group's space that `m` places at world point `x`: the inverse of
+/// the linear part is its adjugate over its determinant.
+Vec3f to_group_space(const sciray::Affine3f& m, const Vec3f& x) {
+  const Vec3f w = x - m.p;
+  const float det = m.determinant();
+  return Vec3f{dot(cross(m.vy, m.vz), w), dot(cross(m.vz, m.vx), w), dot(cross(m.vx, m.vy), w)} * (1.f / det);
+}
+
 void report_unused(Object& o, const std::vector<std::string>& unused) {
   for (const auto& id : unused) device().warn(o.name() + ": parameter '" + id + "' is not used (unknown or not supported)");
 }
@@ -279,8 +287,8 @@ OSPCamera ospNewCamera(const char* type) {
 OSPGeometry ospNewGeometry(const char* type) {
   return guarded("ospNewGeometry", [&] {
     const std::string t = type_string(type);
-    if (t != "mesh" && t != "sphere" && t != "curve" && t != "box" && t != "plane")
-      unknown_type("geometry", t, "mesh, sphere, curve, box, plane");
+    if (t != "mesh" && t != "sphere" && t != "curve" && t != "box" && t != "plane" && t != "isosurface")
+      unknown_type("geometry", t, "mesh, sphere, curve, box, plane, isosurface");
     return handle_of<OSPGeometry>(new Geometry(t));
   }, OSPGeometry{});
 }
@@ -328,8 +336,11 @@ OSPTransferFunction ospNewTransferFunction(const char* type) {
 }
 
 OSPTexture ospNewTexture(const char* type) {
-  return guarded("ospNewTexture",
-                 [&]() -> OSPTexture { unknown_type("texture", type_string(type), "none yet"); }, OSPTexture{});
+  return guarded("ospNewTexture", [&] {
+    const std::string t = type_string(type);
+    if (t != "volume") unknown_type("texture", t, "volume");
+    return handle_of<OSPTexture>(new TextureObject(t));
+  }, OSPTexture{});
 }
 
 OSPGroup ospNewGroup() {
@@ -558,13 +569,18 @@ void ospPick(OSPPickResult* result, OSPFrameBuffer fb, OSPRenderer renderer, OSP
     // Embree transforms the ray into the instance without renormalizing it, so t is the
     // world ray's parameter too.
     const Vec3f p = ray.org + ray.dir * hit.t;
+    // An isosurface's primitives are its isovalues (the engine's are macrocells): the
+    // one the volume's value at the hit, in the group's space, is nearest.
+    std::uint32_t prim = static_cast<uint32_t>(hit.prim_id);
+    if (sciray::ospray::Geometry* g = origin.model->geometry(); g->isosurface_volume())
+      prim = g->isovalue_index(to_group_space(origin.instance->transform(), p));
     result->hasHit = 1;
     result->worldPosition[0] = p.x, result->worldPosition[1] = p.y, result->worldPosition[2] = p.z;
     origin.instance->retain();
     origin.model->retain();
     result->instance = handle_of<OSPInstance>(origin.instance);
     result->model = handle_of<OSPGeometricModel>(origin.model);
-    result->primID = static_cast<uint32_t>(hit.prim_id);
+    result->primID = prim;
   });
 }
 

@@ -56,11 +56,16 @@ void CameraObject::on_commit() {
 }
 
 void Material::on_commit() {
-  const Vec3f kd = get_vec3f("kd", {0.8f, 0.8f, 0.8f});
+  const Vec3f kd = get_vec3f("kd", {default_kd, default_kd, default_kd});
   const float d = get_float("d", 1.f);
   if (!(d >= 0.f && d <= 1.f)) throw Error(name() + ": parameter 'd' (opacity) must be in [0, 1]");
+  Ref<TextureObject> map_kd = get_object<TextureObject>("map_kd", OSP_TEXTURE, false);
+  if (map_kd && !map_kd->committed()) throw Error(name() + ": parameter 'map_kd': its texture has not been committed");
   kd_ = kd;
+  map_kd_ = std::move(map_kd);
 }
+
+std::uint64_t Material::version() const { return std::max(version_, map_kd_ ? map_kd_->version() : 0); }
 
 namespace {
 
@@ -102,6 +107,8 @@ void Geometry::on_commit() {
     commit_boxes();
   else if (subtype() == "plane")
     commit_planes();
+  else if (subtype() == "isosurface")
+    commit_isosurface();
   else
     commit_mesh();
 }
@@ -293,6 +300,31 @@ void Geometry::commit_planes() {
   planes_ = std::move(data);
 }
 
+namespace {
+
+std::string format_vec(const Vec3f& v) {
+  std::ostringstream out;
+  out << "(" << v.x << ", " << v.y << ", " << v.z << ")";
+  return out.str();
+}
+
+/// Why `material` cannot colour `geometry` yet ("" where it can): a volume texture
+/// colours planes only (slices), and isosurfaces take no colour. What a model's commit
+/// and every world build (the material may be recommitted later) check.
+std::string cannot_colour(const Geometry& geometry, const Material* material) {
+  if (!material) return {};
+  if (material->map_kd() && !geometry.planes())
+    return "its material's 'map_kd' (a volume texture) is not supported yet on " + geometry.subtype() +
+           " geometry; volume textures colour plane geometry only (slices)";
+  const Vec3f kd = material->kd();
+  if (geometry.isosurface_volume() && !(kd == Vec3f{default_kd, default_kd, default_kd}))
+    return "colours of isosurface geometry are not supported yet: its material's 'kd' " + format_vec(kd) +
+           " cannot be shown (isosurfaces show the default kd of 0.8)";
+  return {};
+}
+
+}  // namespace
+
 void GeometricModel::on_commit() {
   // Read into locals: a commit that fails leaves the model as it was.
   Ref<Geometry> geometry = get_object<Geometry>("geometry", OSP_GEOMETRY, true);
@@ -318,12 +350,16 @@ void GeometricModel::on_commit() {
     if (geometry->curves())
       throw Error(name() + ": parameter 'color': per-primitive colours of curve geometry are not supported yet; give "
                            "the curve's 'vertex.color'");
+    if (geometry->isosurface_volume())
+      throw Error(name() + ": parameter 'color': per-primitive colours of isosurface geometry are not supported yet "
+                           "(isosurfaces show the renderer's default grey)");
     const std::size_t primitives = geometry->primitive_count();
     if (color->size() != primitives)
       throw Error(name() + ": parameter 'color' has " + std::to_string(color->size()) + " colours but the geometry has " +
                   std::to_string(primitives) + " primitives");
     append_colors(face_colors, *color);
   }
+  if (const std::string why = cannot_colour(*geometry, material.get()); !why.empty()) throw Error(name() + ": " + why);
   // Shading is two-sided, so the side matters only to clipping geometry.
   const bool invert_normals = get_bool("invertNormals", false);
   get_int("id", 0);
@@ -338,6 +374,8 @@ std::optional<Vec3f> GeometricModel::material_color() const {
   return material_->kd();  // as last committed: a material commit reaches the world
 }
 
+TextureObject* GeometricModel::volume_texture() const { return material_ ? material_->map_kd() : nullptr; }
+
 std::uint64_t GeometricModel::version() const {
   std::uint64_t v = version_;
   if (geometry_) v = std::max(v, geometry_->version());
@@ -348,12 +386,6 @@ std::uint64_t GeometricModel::version() const {
 // ---- volumes ------------------------------------------------------------------------------
 
 namespace {
-
-std::string format_vec(const Vec3f& v) {
-  std::ostringstream out;
-  out << "(" << v.x << ", " << v.y << ", " << v.z << ")";
-  return out.str();
-}
 
 std::string format_counts(const std::array<std::uint64_t, 3>& n) {
   return std::to_string(n[0]) + "x" + std::to_string(n[1]) + "x" + std::to_string(n[2]);
@@ -609,6 +641,135 @@ EngineVolumetricModel VolumetricModelObject::engine_model(VolumeBuildStats& stat
   return model_;
 }
 
+// ---- isosurfaces and volume textures -------------------------------------------------------
+
+namespace {
+
+/// The engine isosurface of `volume` (finds the macrocells that hold an isovalue).
+std::shared_ptr<const Isosurface> make_isosurface(const EngineVolume& volume, const std::vector<float>& isovalues) {
+  return std::visit(
+      [&](const auto& v) -> std::shared_ptr<const Isosurface> {
+        if constexpr (std::is_same_v<std::decay_t<decltype(v)>, std::monostate>)
+          throw Error("isosurface: its volume has not been committed");
+        else
+          return std::make_shared<const Isosurface>(v, isovalues);
+      },
+      volume);
+}
+
+}  // namespace
+
+void Geometry::commit_isosurface() {
+  // OSPRay 3 takes the volume itself (OSPRay 2 took a volumetric model).
+  const Param* p = find("volume");
+  if (!p || !p->object) throw Error(name() + ": required parameter 'volume' (OSPVolume) is missing");
+  if (p->object->kind() != OSP_VOLUME)
+    throw Error(name() + ": parameter 'volume' must be OSPVolume, got " + type_name(p->object->kind()) +
+                (p->object->kind() == OSP_VOLUMETRIC_MODEL
+                     ? " (in OSPRay 3 an isosurface takes the volume itself, not a volumetric model)"
+                     : ""));
+  Ref<VolumeObject> volume = static_cast<VolumeObject*>(p->object.get());
+  if (!volume->committed()) throw Error(name() + ": its volume has not been committed");
+
+  const Param* iso = find("isovalue");
+  if (!iso || (!iso->object && is_object_type(iso->type)))
+    throw Error(name() + ": required parameter 'isovalue' (float, or array of float) is missing");
+  std::vector<float> isovalues;
+  const bool array = static_cast<bool>(iso->object);
+  if (array) {
+    if (iso->object->kind() != OSP_DATA)
+      throw Error(name() + ": parameter 'isovalue' must be a float or an array of float, got " +
+                  type_name(iso->object->kind()));
+    isovalues = get_data(*this, iso, "isovalue", {OSP_FLOAT})->to_vector<float>(read_float);
+  } else if (iso->type == OSP_FLOAT) {
+    isovalues = {read_float(iso->bytes.data())};
+  } else {
+    throw Error(name() + ": parameter 'isovalue' must be a float or an array of float, got " + type_name(iso->type));
+  }
+  if (isovalues.empty()) throw Error(name() + ": parameter 'isovalue' is an empty array");
+  for (std::size_t i = 0; i < isovalues.size(); ++i)
+    if (!std::isfinite(isovalues[i]))
+      throw Error(name() + ": parameter 'isovalue' " + (array ? "element " + std::to_string(i) + " " : "") +
+                  "is not finite, got " + std::to_string(isovalues[i]));
+
+  auto surface = make_isosurface(volume->volume(), isovalues);
+  std::lock_guard lock(iso_mutex_);
+  isosurface_ = std::move(surface);
+  isosurface_volume_version_ = volume->version();
+  primitive_count_ = isovalues.size();  // OSPRay's primitives of an isosurface: its isovalues
+  isovalues_ = std::move(isovalues);
+  iso_volume_ = std::move(volume);
+}
+
+std::shared_ptr<const Isosurface> Geometry::isosurface() {
+  std::lock_guard lock(iso_mutex_);
+  if (!iso_volume_) return nullptr;
+  if (isosurface_volume_version_ != iso_volume_->version()) {
+    // The volume was recommitted: the new one's macrocells.
+    isosurface_ = make_isosurface(iso_volume_->volume(), isovalues_);
+    isosurface_volume_version_ = iso_volume_->version();
+  }
+  return isosurface_;
+}
+
+std::uint32_t Geometry::isovalue_index(const Vec3f& p) const {
+  if (!iso_volume_ || isovalues_.empty()) return 0;
+  const float value = std::visit(
+      [&](const auto& v) -> float {
+        if constexpr (std::is_same_v<std::decay_t<decltype(v)>, std::monostate>)
+          return 0.f;
+        else
+          return v->template sample<simd::scalar>(p);
+      },
+      iso_volume_->volume());
+  std::uint32_t best = 0;
+  for (std::uint32_t i = 1; i < isovalues_.size(); ++i)
+    if (std::abs(isovalues_[i] - value) < std::abs(isovalues_[best] - value)) best = i;
+  return best;
+}
+
+Box3f Geometry::bounds() const { return iso_volume_ ? iso_volume_->bounds() : bounds_; }
+
+std::uint64_t Geometry::version() const {
+  return std::max(version_, iso_volume_ ? iso_volume_->version() : 0);
+}
+
+void TextureObject::on_commit() {
+  // The factory creates no other types.
+  const Param* p = find("volume");
+  if (!p || !p->object) throw Error(name() + ": required parameter 'volume' (OSPVolumetricModel) is missing");
+  if (p->object->kind() != OSP_VOLUMETRIC_MODEL)
+    throw Error(name() + ": parameter 'volume' must be OSPVolumetricModel, got " + type_name(p->object->kind()) +
+                (p->object->kind() == OSP_VOLUME
+                     ? " (a volume texture takes the volumetric model, whose transfer function gives the colours)"
+                     : ""));
+  Ref<VolumetricModelObject> model = static_cast<VolumetricModelObject*>(p->object.get());
+  if (!model->committed()) throw Error(name() + ": its volumetric model has not been committed");
+  model_ = std::move(model);
+}
+
+std::uint64_t TextureObject::version() const { return std::max(version_, model_ ? model_->version() : 0); }
+
+namespace {
+
+/// The slices of `model`: its planes coloured by its material's volume texture, times
+/// `colors` (the model's colours times kd, or kd alone), sampling the texture's volume
+/// and transfer function as currently committed.
+VolumeSlice model_slice(const GeometricModel& model, const PlaneData& data, std::vector<float> colors) {
+  const VolumetricModelObject& source = *model.volume_texture()->volume_model();
+  const TransferFunction& tf = *source.transfer_function()->transfer_function();
+  return std::visit(
+      [&](const auto& v) -> VolumeSlice {
+        if constexpr (std::is_same_v<std::decay_t<decltype(v)>, std::monostate>)
+          throw Error("volume texture: its volume has not been committed");
+        else
+          return VolumeSlice(data.planes, data.bounds, v, tf, std::move(colors));
+      },
+      source.volume()->volume());
+}
+
+}  // namespace
+
 namespace {
 
 /// Why `model`'s geometry cannot clip whatever its placement ("" where it can): what a
@@ -622,6 +783,7 @@ std::string cannot_clip(const GeometricModel& model) {
            "OSP_SPHERE";
   if (geometry.planes() && !geometry.planes()->bounds.empty())
     return "planes with 'plane.bounds' are not supported as clipping geometry yet; clip with unbounded planes or a box";
+  if (geometry.isosurface_volume()) return "isosurface geometry cannot clip yet";
   return {};
 }
 
@@ -983,8 +1145,13 @@ std::shared_ptr<const BuiltGroup> World::build_group(Group& group, const shim::I
   built->kernels = &kernels;
   if (group.models().empty()) return built;
   built->group = std::make_shared<shim::EngineWorld::GroupType>(*device_);
-  for (const auto& model : group.models()) {
-    const Geometry& geometry = *model->geometry();
+  for (std::size_t k = 0; k < group.models().size(); ++k) {
+    const auto& model = group.models()[k];
+    Geometry& geometry = *model->geometry();
+    // The material may have been recommitted (with a texture or colour) since the model.
+    if (const std::string why = cannot_colour(geometry, model->material()); !why.empty())
+      throw Error("parameter 'geometry' element " + std::to_string(k) + " (" + model->name() + " of " +
+                  geometry.name() + "): " + why);
     if (geometry.spheres()) {
       built->group->add(model_spheres(*model, built->keep_alive));
     } else if (geometry.curves()) {
@@ -996,8 +1163,13 @@ std::shared_ptr<const BuiltGroup> World::build_group(Group& group, const shim::I
           Boxes(data.boxes, tinted_colors(model->face_colors(), model->material_color(), data.boxes.size())));
     } else if (geometry.planes()) {
       const auto& data = *geometry.planes();
-      built->group->add(Planes(data.planes, data.bounds,
-                               tinted_colors(model->face_colors(), model->material_color(), data.planes.size())));
+      auto colors = tinted_colors(model->face_colors(), model->material_color(), data.planes.size());
+      if (model->volume_texture())
+        built->group->add(model_slice(*model, data, std::move(colors)));  // planes coloured by a volume
+      else
+        built->group->add(Planes(data.planes, data.bounds, std::move(colors)));
+    } else if (const auto isosurface = geometry.isosurface()) {
+      built->group->add(*isosurface);  // a copy: the volume is shared
     } else {
       built->group->add(model_mesh(*model, built->keep_alive));
     }
@@ -1038,7 +1210,11 @@ std::shared_ptr<const BuiltWorld> World::built(const shim::IsaKernels& kernels, 
         built->groups.push_back(cached->second);  // its BVH carries over as it is
         ++reused;
       } else {
-        built->groups.push_back(build_group(*group, kernels));
+        try {
+          built->groups.push_back(build_group(*group, kernels));
+        } catch (const Error& e) {
+          throw Error(name() + ": the group of instance " + std::to_string(i) + ", " + e.what());
+        }
       }
     }
     const BuiltGroup& placed = *built->groups[at->second];

@@ -1,17 +1,21 @@
 #pragma once
 // OSPRay's scene objects over sciray types: cameras, geometry (mesh, sphere, curve, box,
-// plane), geometric models, volumes (structuredRegular), transfer functions
-// (piecewiseLinear), volumetric models, groups, instances, worlds, lights, materials and
-// renderers. Each reads its committed parameters in on_commit and names the parameter
+// plane, isosurface), geometric models, volumes (structuredRegular), transfer functions
+// (piecewiseLinear), volumetric models, textures (volume), groups, instances, worlds,
+// lights, materials and renderers. Each reads its committed parameters in on_commit and names the parameter
 // when one is wrong.
 #include <map>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <variant>
+#include <vector>
 
 #include "data.hpp"
 #include "sciray/geometry/boxes.hpp"
 #include "sciray/geometry/curves.hpp"
+#include "sciray/geometry/isosurface.hpp"
+#include "sciray/geometry/slice.hpp"
 #include "sciray/geometry/spheres.hpp"
 #include "sciray/geometry/triangle_mesh.hpp"
 #include "sciray/math/affine.hpp"
@@ -51,97 +55,6 @@ protected:
 
 private:
   sciray::Camera camera_;
-};
-
-class Material : public Object {
-public:
-  explicit Material(std::string type) : Object(OSP_MATERIAL, std::move(type)) {}
-  Vec3f kd() const { return kd_; }
-
-protected:
-  void on_commit() override;
-
-private:
-  Vec3f kd_{0.8f, 0.8f, 0.8f};
-};
-
-/// The primitives of OSPRay's `box` geometry, as committed.
-struct BoxData {
-  std::vector<Box3f> boxes;
-};
-
-/// The primitives of OSPRay's `plane` geometry, as committed: coefficients, and one
-/// bounding box per plane or none.
-struct PlaneData {
-  std::vector<Planes::Plane> planes;
-  std::vector<Box3f> bounds;
-};
-
-/// OSPRay's `mesh`, `sphere`, `curve`, `box` and `plane` geometry; exactly one of mesh(),
-/// spheres(), curves(), boxes() and planes() is set once committed, according to the
-/// subtype.
-class Geometry : public Object {
-public:
-  explicit Geometry(std::string type) : Object(OSP_GEOMETRY, std::move(type)) {}
-  /// The mesh data as committed (owned, padded for Embree), or null.
-  const std::shared_ptr<const MeshData>& mesh() const { return mesh_; }
-  /// The spheres as committed (owned, padded), or null; with their type and intersector.
-  const std::shared_ptr<const SphereData>& spheres() const { return spheres_; }
-  SphereType sphere_type() const { return sphere_type_; }
-  SphereIntersector sphere_intersector() const { return sphere_intersector_; }
-  /// The curves as committed (owned, padded), or null.
-  const std::shared_ptr<const CurveData>& curves() const { return curves_; }
-  /// The boxes as committed, or null.
-  const std::shared_ptr<const BoxData>& boxes() const { return boxes_; }
-  /// The planes as committed, or null.
-  const std::shared_ptr<const PlaneData>& planes() const { return planes_; }
-  /// Faces, spheres, curve segments, boxes or planes: what a model's per-primitive
-  /// `color` indexes.
-  std::size_t primitive_count() const { return primitive_count_; }
-  Box3f bounds() const { return bounds_; }
-
-protected:
-  void on_commit() override;
-
-private:
-  void commit_mesh();
-  void commit_spheres();
-  void commit_curves();
-  void commit_boxes();
-  void commit_planes();
-
-  std::shared_ptr<const MeshData> mesh_;
-  std::shared_ptr<const SphereData> spheres_;
-  SphereType sphere_type_ = SphereType::sphere;
-  SphereIntersector sphere_intersector_ = SphereIntersector::sciray;
-  std::shared_ptr<const CurveData> curves_;
-  std::shared_ptr<const BoxData> boxes_;
-  std::shared_ptr<const PlaneData> planes_;
-  std::size_t primitive_count_ = 0;
-  Box3f bounds_;
-};
-
-class GeometricModel : public Object {
-public:
-  GeometricModel() : Object(OSP_GEOMETRIC_MODEL, "") {}
-  Geometry* geometry() const { return geometry_.get(); }
-  /// The material's `kd`, if the model has a material.
-  std::optional<Vec3f> material_color() const;
-  /// Per-primitive colours (RGBA), or empty.
-  const PaddedVector<float>& face_colors() const { return face_colors_; }
-  /// `invertNormals`: as clipping geometry, the model clips its outside instead of its
-  /// inside (shading is two-sided, so it changes nothing else).
-  bool invert_normals() const { return invert_normals_; }
-  std::uint64_t version() const override;
-
-protected:
-  void on_commit() override;
-
-private:
-  Ref<Geometry> geometry_;
-  Ref<Material> material_;
-  PaddedVector<float> face_colors_;
-  bool invert_normals_ = false;
 };
 
 /// OSPRay's `structuredRegular` volume: a regular grid of uchar, short, ushort, float or
@@ -193,6 +106,7 @@ class VolumetricModelObject : public Object {
 public:
   VolumetricModelObject() : Object(OSP_VOLUMETRIC_MODEL, "") {}
   VolumeObject* volume() const { return volume_.get(); }
+  TransferFunctionObject* transfer_function() const { return transfer_function_.get(); }
   float density_scale() const { return density_scale_; }
   Box3f bounds() const { return volume_ ? volume_->bounds() : Box3f{}; }
   std::uint64_t version() const override;
@@ -212,6 +126,143 @@ private:
   EngineVolumetricModel model_;
   std::uint64_t model_volume_version_ = 0;  ///< the volume commit the model was built from
   std::uint64_t model_tf_version_ = 0;      ///< the transfer function commit it shows
+};
+
+/// OSPRay's `volume` texture: `volume`, a volumetric model whose transfer function
+/// colours the points of a surface by the volume's value there. As a material's `map_kd`
+/// it turns plane geometry into slices (the engine's VolumeSlice).
+class TextureObject : public Object {
+public:
+  explicit TextureObject(std::string type) : Object(OSP_TEXTURE, std::move(type)) {}
+  VolumetricModelObject* volume_model() const { return model_.get(); }
+  /// Also counts the model's (its volume's and transfer function's) commits.
+  std::uint64_t version() const override;
+
+protected:
+  void on_commit() override;
+
+private:
+  Ref<VolumetricModelObject> model_;
+};
+
+/// The `kd` an obj material has where none is given (OSPRay's default), which is also
+/// what the renderer shows on surfaces without colours.
+inline constexpr float default_kd = 0.8f;
+
+class Material : public Object {
+public:
+  explicit Material(std::string type) : Object(OSP_MATERIAL, std::move(type)) {}
+  Vec3f kd() const { return kd_; }
+  /// `map_kd`: a volume texture whose colour multiplies kd, or null.
+  TextureObject* map_kd() const { return map_kd_.get(); }
+  /// Also counts the texture's commits.
+  std::uint64_t version() const override;
+
+protected:
+  void on_commit() override;
+
+private:
+  Vec3f kd_{default_kd, default_kd, default_kd};
+  Ref<TextureObject> map_kd_;
+};
+
+/// The primitives of OSPRay's `box` geometry, as committed.
+struct BoxData {
+  std::vector<Box3f> boxes;
+};
+
+/// The primitives of OSPRay's `plane` geometry, as committed: coefficients, and one
+/// bounding box per plane or none.
+struct PlaneData {
+  std::vector<Planes::Plane> planes;
+  std::vector<Box3f> bounds;
+};
+
+/// OSPRay's `mesh`, `sphere`, `curve`, `box`, `plane` and `isosurface` geometry; exactly
+/// one of mesh(), spheres(), curves(), boxes(), planes() and isosurface_volume() is set
+/// once committed, according to the subtype.
+class Geometry : public Object {
+public:
+  explicit Geometry(std::string type) : Object(OSP_GEOMETRY, std::move(type)) {}
+  /// The mesh data as committed (owned, padded for Embree), or null.
+  const std::shared_ptr<const MeshData>& mesh() const { return mesh_; }
+  /// The spheres as committed (owned, padded), or null; with their type and intersector.
+  const std::shared_ptr<const SphereData>& spheres() const { return spheres_; }
+  SphereType sphere_type() const { return sphere_type_; }
+  SphereIntersector sphere_intersector() const { return sphere_intersector_; }
+  /// The curves as committed (owned, padded), or null.
+  const std::shared_ptr<const CurveData>& curves() const { return curves_; }
+  /// The boxes as committed, or null.
+  const std::shared_ptr<const BoxData>& boxes() const { return boxes_; }
+  /// The planes as committed, or null.
+  const std::shared_ptr<const PlaneData>& planes() const { return planes_; }
+  /// An isosurface's volume (as the geometry's `volume`), or null for other geometry.
+  VolumeObject* isosurface_volume() const { return iso_volume_.get(); }
+  /// The isosurface over the volume's current commit (rebuilt when the volume was
+  /// recommitted since), or null for other geometry.
+  std::shared_ptr<const Isosurface> isosurface();
+  /// The index of the isovalue nearest the volume's value at `p` (in the geometry's
+  /// space): which of an isosurface's surfaces a hit at p lies on, OSPRay's primID.
+  std::uint32_t isovalue_index(const Vec3f& p) const;
+  /// Faces, spheres, curve segments, boxes, planes or isovalues: what a model's
+  /// per-primitive `color` indexes.
+  std::size_t primitive_count() const { return primitive_count_; }
+  /// An isosurface's are its volume's current bounds.
+  Box3f bounds() const;
+  /// An isosurface's also counts its volume's commits.
+  std::uint64_t version() const override;
+
+protected:
+  void on_commit() override;
+
+private:
+  void commit_mesh();
+  void commit_spheres();
+  void commit_curves();
+  void commit_boxes();
+  void commit_planes();
+  void commit_isosurface();
+
+  std::shared_ptr<const MeshData> mesh_;
+  std::shared_ptr<const SphereData> spheres_;
+  SphereType sphere_type_ = SphereType::sphere;
+  SphereIntersector sphere_intersector_ = SphereIntersector::sciray;
+  std::shared_ptr<const CurveData> curves_;
+  std::shared_ptr<const BoxData> boxes_;
+  std::shared_ptr<const PlaneData> planes_;
+  Ref<VolumeObject> iso_volume_;
+  std::vector<float> isovalues_;
+  std::mutex iso_mutex_;  ///< guards the isosurface, which world builds refresh
+  std::shared_ptr<const Isosurface> isosurface_;
+  std::uint64_t isosurface_volume_version_ = 0;  ///< the volume commit it was built from
+  std::size_t primitive_count_ = 0;
+  Box3f bounds_;
+};
+
+class GeometricModel : public Object {
+public:
+  GeometricModel() : Object(OSP_GEOMETRIC_MODEL, "") {}
+  Geometry* geometry() const { return geometry_.get(); }
+  Material* material() const { return material_.get(); }
+  /// The material's `kd`, if the model has a material.
+  std::optional<Vec3f> material_color() const;
+  /// The material's `map_kd` volume texture, or null.
+  TextureObject* volume_texture() const;
+  /// Per-primitive colours (RGBA), or empty.
+  const PaddedVector<float>& face_colors() const { return face_colors_; }
+  /// `invertNormals`: as clipping geometry, the model clips its outside instead of its
+  /// inside (shading is two-sided, so it changes nothing else).
+  bool invert_normals() const { return invert_normals_; }
+  std::uint64_t version() const override;
+
+protected:
+  void on_commit() override;
+
+private:
+  Ref<Geometry> geometry_;
+  Ref<Material> material_;
+  PaddedVector<float> face_colors_;
+  bool invert_normals_ = false;
 };
 
 class Group : public Object {
