@@ -7,7 +7,7 @@
 //                 [--style ball-and-stick|space-filling] [--sphere-intersector sciray|embree]
 //                 [--clip-plane a,b,c,d]... [--clip-sphere x,y,z,r]...
 //                 [--tf tf.json] [--layout linear|bricked] [--density D] [--sampling-rate R] [--gradient-shading]
-//                 [--iso V]... [--preintegration] [--no-empty-space-skipping]
+//                 [--iso V]... [--slice a,b,c,d]... [--preintegration] [--no-empty-space-skipping]
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -89,6 +89,7 @@ struct RenderOptions {
   std::string style = "ball-and-stick";
   std::vector<std::string> clip_planes;   ///< "a,b,c,d" each
   std::vector<std::string> clip_spheres;  ///< "x,y,z,r" each
+  std::vector<std::string> slices;        ///< "a,b,c,d" each
   std::string sphere_intersector = "sciray";
   sciray_tool::VolumeOptions volume;
   float sampling_rate = 1.f;
@@ -162,7 +163,14 @@ int render(const RenderOptions& opt) {
     sciray::accel::Device device;
     sciray::shim::EngineWorld world(device);
     std::optional<sciray_tool::VolumeInfo> volume;
-    if (is_volume_file(opt.mesh)) volume = sciray_tool::add_volume_file(world, opt.mesh, opt.volume);
+    if (is_volume_file(opt.mesh)) {
+      sciray_tool::VolumeOptions volume_options = opt.volume;
+      for (const auto& slice : opt.slices) {
+        const auto c = parse_floats(slice, 4, "--slice");
+        volume_options.slices.push_back({c[0], c[1], c[2], c[3]});
+      }
+      volume = sciray_tool::add_volume_file(world, opt.mesh, volume_options);
+    }
     const double load_ms = ms_since(start);
     // The scene's geometry goes into the world, or into one group the world instances.
     auto group = std::make_shared<sciray::shim::EngineWorld::GroupType>(device);
@@ -309,6 +317,8 @@ int main(int argc, char** argv) {
   render_cmd->add_option("--density", opt.volume.density, "volumes: densityScale (default: from the size)");
   render_cmd->add_option("--sampling-rate", opt.sampling_rate, "volumes: samples per cell");
   render_cmd->add_option("--iso", opt.volume.isovalues, "volumes: render the isosurface of this value (repeatable)");
+  render_cmd->add_option("--slice", opt.slices, "volumes: a,b,c,d: the plane a*x+b*y+c*z+d=0 coloured by the volume "
+                                                "through the transfer function (repeatable)");
   render_cmd->add_flag("--gradient-shading", opt.gradient_shading, "volumes: shade by the gradient");
   render_cmd->add_flag("--preintegration", opt.preintegration,
                        "volumes: integrate the transfer function over each step (accurate at coarse steps)");

@@ -1,7 +1,7 @@
 #pragma once
 // The sciray tool's volumes: a raw or NRRD file becomes a StructuredRegular of its voxel
 // type in the layout asked for, rendered through a transfer function from a JSON file (or
-// a default one spread over the data's value range), or as isosurfaces.
+// a default one spread over the data's value range), as isosurfaces, or as slices.
 #include <array>
 #include <cstdint>
 #include <fstream>
@@ -22,6 +22,7 @@ struct VolumeOptions {
   std::string layout = "linear";  ///< or "bricked"
   float density = 0.f;            ///< densityScale; 0: a default from the volume's size
   std::vector<float> isovalues;   ///< isosurfaces instead of volume rendering
+  std::vector<std::array<float, 4>> slices;  ///< planes a,b,c,d coloured by the volume, instead
 };
 
 /// {"colors": [[r, g, b], ...], "opacities": [a, ...], "range": [lo, hi]}; "range" may be
@@ -74,8 +75,8 @@ struct VolumeInfo {
   std::string type;
 };
 
-/// Loads `path` and adds it to `world`: its isosurfaces if isovalues are given, else the
-/// volume rendered through its transfer function.
+/// Loads `path` and adds it to `world`: its isosurfaces if isovalues are given, its slices
+/// if planes are, else the volume rendered through its transfer function.
 inline VolumeInfo add_volume_file(sciray::shim::EngineWorld& world, const std::string& path, const VolumeOptions& opt) {
   using namespace sciray;
   const io::VolumeFile file = io::read_volume(path);
@@ -91,6 +92,14 @@ inline VolumeInfo add_volume_file(sciray::shim::EngineWorld& world, const std::s
       }
       const std::array<float, 2> range = file.range ? *file.range : volume->value_range();
       TransferFunction tf = opt.tf.empty() ? default_transfer_function(range) : read_transfer_function(opt.tf, range);
+      if (!opt.slices.empty()) {
+        // Each slice is cut to the volume's box.
+        std::vector<Planes::Plane> planes;
+        for (const auto& c : opt.slices) planes.push_back({c[0], c[1], c[2], c[3]});
+        std::vector<Box3f> bounds(planes.size(), volume->bounds());
+        world.add(VolumeSlice(std::move(planes), std::move(bounds), volume, std::move(tf)));
+        return;
+      }
       // By default the densest value absorbs 1 − e⁻⁴ over the volume's diagonal.
       const float density = opt.density > 0.f ? opt.density : 4.f / length(volume->bounds().size());
       world.add_volume(VolumetricModel(volume, std::move(tf), density));

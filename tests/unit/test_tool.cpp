@@ -178,6 +178,15 @@ TEST_CASE("sciray render: volumes through a transfer function and as isosurfaces
   INFO(iso.output);
   REQUIRE(iso.exit_code == 0);
   CHECK(nlohmann::json::parse(iso.output)["volumes"] == 0);  // surfaces only
+
+  // A slice through the middle of the hydrogen density: coloured where it cuts the volume.
+  const auto slice = scratch("slice.pfm");
+  const Run sliced = run_tool("render " SCIRAY_DATA_DIR "/volumes/hydrogen_64x64x64_float32.raw --slice 0,0,1,-31.5 "
+                              "--size 32x32 -o " + slice.string());
+  INFO(sliced.output);
+  REQUIRE(sliced.exit_code == 0);
+  const auto cut = sciray::io::read_pfm(slice);
+  CHECK(cut.at(16, 16, 0) != cut.at(0, 0, 0));
 }
 
 TEST_CASE("sciray reports bad input clearly", "[tool][errors]") {
@@ -214,6 +223,7 @@ TEST_CASE("sciray reports bad input clearly", "[tool][errors]") {
        "expected an object with \"colors\" and \"opacities\""},
       {"render --size 8x8 --clip-sphere 0,0,0,x", "--clip-sphere: 'x' is not a finite number"},
       {"render --size 8x8 --clip-sphere 0,0,0,-1", "positive radius"},
+      {"render " SCIRAY_DATA_DIR "/volumes/neghip_66x66x66_uint8.raw --slice 0,0,1 --size 8x8", "--slice: expected 4"},
   };
   for (const auto& [arguments, expected] : cases) {
     const Run run = run_tool(arguments);
