@@ -275,3 +275,45 @@ TEST_CASE("pre-integration keeps a narrow transfer-function feature at coarse st
     CHECK(pre == Approx(expected).epsilon(2e-3));
   }
 }
+
+TEST_CASE("a volume over 4 GiB and 2^32 voxels is addressed right", "[volume][large]") {
+  // 2048 × 2048 × 1030 uint8 voxels (4.32 GB) generated on the fly, value (x + 3y + 7z)
+  // mod 251; samples beyond voxel 2^32 (z ≥ 1024) must read what the formula says.
+  const VolumeDims d{2048, 2048, 1030};
+  const auto value = [](std::int64_t x, std::int64_t y, std::int64_t z) { return (x + 3 * y + 7 * z) % 251; };
+  auto voxels = std::make_shared<std::vector<std::uint8_t>>();
+  voxels->resize(static_cast<std::size_t>(d[0] * d[1] * d[2]));
+  REQUIRE(voxels->size() > (std::size_t{1} << 32));
+  std::vector<std::uint8_t> period(251 + 2048);  // one row starting anywhere in the period
+  for (std::size_t i = 0; i < period.size(); ++i) period[i] = static_cast<std::uint8_t>(i % 251);
+  for (std::int64_t z = 0; z < d[2]; ++z)
+    for (std::int64_t y = 0; y < d[1]; ++y)
+      std::copy_n(period.begin() + value(0, y, z), d[0], voxels->begin() + (z * d[1] + y) * d[0]);
+  const StructuredRegular<std::uint8_t> volume(LinearLayout<std::uint8_t>(voxels->data(), d, voxels), VolumeGrid{});
+  using A = xsimd::default_arch;
+  constexpr int W = simd::width<A>;
+  for (int i = 0; i < 64; ++i) {
+    alignas(64) float px[W], py[W], pz[W];
+    double expected[W];
+    for (int k = 0; k < W; ++k) {
+      // A point inside a cell of the last slabs whose corners do not wrap around 251.
+      std::int64_t x, y, z;
+      std::uint64_t n = 97 * (W * i + k);
+      do {
+        x = static_cast<std::int64_t>(2046 * testing::hash_uniform(n++)), y = static_cast<std::int64_t>(2046 * testing::hash_uniform(n++));
+        z = 1024 + static_cast<std::int64_t>(5 * testing::hash_uniform(n++));
+      } while (value(x, y, z) > 251 - 12);  // +1 in x, +3 in y, +7 in z stays below 251
+      const double fx = testing::hash_uniform(n++), fy = testing::hash_uniform(n++), fz = testing::hash_uniform(n++);
+      px[k] = static_cast<float>(x + fx), py[k] = static_cast<float>(y + fy), pz[k] = static_cast<float>(z + fz);
+      // The field is linear inside such a cell: its value at the (float-rounded) point.
+      expected[k] = value(x, y, z) + (px[k] - x) + 3 * (py[k] - y) + 7 * (pz[k] - z);
+    }
+    const auto packet = volume.sample<A>({simd::load<A>(px), simd::load<A>(py), simd::load<A>(pz)});
+    for (int k = 0; k < W; ++k) {
+      REQUIRE(simd::lane(packet, k) == Approx(expected[k]).margin(1e-3));
+      REQUIRE(volume.sample<simd::scalar>(Vec3f{px[k], py[k], pz[k]}) == Approx(expected[k]).margin(1e-3));
+    }
+  }
+  // The very last voxel, 4.32e9 bytes in.
+  CHECK(volume.voxel(2047, 2047, 1029) == static_cast<float>(value(2047, 2047, 1029)));
+}
