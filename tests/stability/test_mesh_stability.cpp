@@ -12,17 +12,12 @@
 #include "sciray/shim/engine.hpp"
 #include "sciray/testing/image_compare.hpp"
 #include "sciray/testing/scenes.hpp"
+#include "support/isas.hpp"
 
 using namespace sciray;
+using sciray::test_support::supported_isas;
 
 namespace {
-
-std::vector<simd::Isa> supported_isas() {
-  std::vector<simd::Isa> isas;
-  for (auto isa : simd::all_isas)
-    if (simd::cpu_supports(isa)) isas.push_back(isa);
-  return isas;
-}
 
 Vec3f vertex(const MeshData& m, std::uint32_t i) {
   return {m.positions[3 * i], m.positions[3 * i + 1], m.positions[3 * i + 2]};

@@ -9,8 +9,10 @@
 
 #include "sciray/geometry/sphere_intersect.hpp"
 #include "sciray/shim/engine.hpp"
+#include "support/isas.hpp"
 
 using namespace sciray;
+using sciray::test_support::supported_isas;
 
 namespace {
 
@@ -63,13 +65,6 @@ Score score(const std::vector<Ray<float>>& rays, const std::vector<float>& t, co
     s.worst_ulps = std::max(s.worst_ulps, std::fabs(t[i] - e.t) / ulp);
   }
   return s;
-}
-
-std::vector<simd::Isa> supported_isas() {
-  std::vector<simd::Isa> isas;
-  for (auto isa : simd::all_isas)
-    if (simd::cpu_supports(isa)) isas.push_back(isa);
-  return isas;
 }
 
 /// Runs every method on `rays` against one sphere and checks that the stable ones hold

@@ -8,17 +8,12 @@
 
 #include "sciray/shim/engine.hpp"
 #include "sciray/testing/scenes.hpp"
+#include "support/isas.hpp"
 
 using namespace sciray;
+using sciray::test_support::supported_isas;
 
 namespace {
-
-std::vector<simd::Isa> supported_isas() {
-  std::vector<simd::Isa> isas;
-  for (auto isa : simd::all_isas)
-    if (simd::cpu_supports(isa)) isas.push_back(isa);
-  return isas;
-}
 
 template <class G>
 std::vector<shim::TraceResult> trace(simd::Isa isa, G geometry, const std::vector<Ray<float>>& rays) {

@@ -8,17 +8,12 @@
 
 #include "sciray/shim/engine.hpp"
 #include "sciray/testing/scenes.hpp"
+#include "support/isas.hpp"
 
 using namespace sciray;
+using sciray::test_support::supported_isas;
 
 namespace {
-
-std::vector<simd::Isa> supported_isas() {
-  std::vector<simd::Isa> isas;
-  for (auto isa : simd::all_isas)
-    if (simd::cpu_supports(isa)) isas.push_back(isa);
-  return isas;
-}
 
 template <class F>
 std::shared_ptr<const StructuredRegular<float>> volume_of(const VolumeDims& d, const VolumeGrid& grid, F&& f) {

@@ -12,17 +12,12 @@
 #include <vector>
 
 #include "sciray/shim/engine.hpp"
+#include "support/isas.hpp"
 
 using namespace sciray;
+using sciray::test_support::supported_isas;
 
 namespace {
-
-std::vector<simd::Isa> supported_isas() {
-  std::vector<simd::Isa> isas;
-  for (auto isa : simd::all_isas)
-    if (simd::cpu_supports(isa)) isas.push_back(isa);
-  return isas;
-}
 
 /// f = x + 2y + 3z in world units on [0, 1]³: float voxels, linear layout, 11³ at 0.1.
 std::shared_ptr<const StructuredRegular<float>> float_field() {

@@ -14,17 +14,12 @@
 #include "sciray/shim/engine.hpp"
 #include "sciray/testing/image_compare.hpp"
 #include "sciray/testing/scenes.hpp"
+#include "support/isas.hpp"
 
 using namespace sciray;
+using sciray::test_support::supported_isas;
 
 namespace {
-
-std::vector<simd::Isa> supported_isas() {
-  std::vector<simd::Isa> isas;
-  for (auto isa : simd::all_isas)
-    if (simd::cpu_supports(isa)) isas.push_back(isa);
-  return isas;
-}
 
 /// The nearest hit over all spheres, in double precision on the same float rays.
 shim::TraceResult reference_hit(const SphereData& spheres, const Ray<float>& ray) {

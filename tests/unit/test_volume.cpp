@@ -9,17 +9,12 @@
 #include "sciray/io/frame_io.hpp"
 #include "sciray/shim/engine.hpp"
 #include "sciray/testing/scenes.hpp"
+#include "support/isas.hpp"
 
 using namespace sciray;
+using sciray::test_support::supported_isas;
 
 namespace {
-
-std::vector<simd::Isa> supported_isas() {
-  std::vector<simd::Isa> isas;
-  for (auto isa : simd::all_isas)
-    if (simd::cpu_supports(isa)) isas.push_back(isa);
-  return isas;
-}
 
 /// f(x, y, z) = 3 + 2x + y/2 + 5z on voxel indices, rounded to the voxel type.
 template <class Voxel>

@@ -13,17 +13,12 @@
 #include "sciray/shim/engine.hpp"
 #include "sciray/testing/image_compare.hpp"
 #include "sciray/testing/scenes.hpp"
+#include "support/isas.hpp"
 
 using namespace sciray;
+using sciray::test_support::supported_isas;
 
 namespace {
-
-std::vector<simd::Isa> supported_isas() {
-  std::vector<simd::Isa> isas;
-  for (auto isa : simd::all_isas)
-    if (simd::cpu_supports(isa)) isas.push_back(isa);
-  return isas;
-}
 
 /// A rotation about `axis` by `degrees`, then a scale and a translation.
 Affine3f rotate_scale_translate(Vec3f axis, float degrees, float scale, Vec3f translation) {

@@ -131,6 +131,13 @@ public:
   GeometryHandle& operator=(const GeometryHandle&) = delete;
   RTCGeometry get() const { return geometry_; }
 
+  /// Commits the geometry and hands its reference to the caller (to attach and release).
+  RTCGeometry commit(const Device& device, std::string_view what) {
+    rtcCommitGeometry(geometry_);
+    device.check(std::string(what) + ": rtcCommitGeometry");
+    return std::exchange(geometry_, nullptr);
+  }
+
 private:
   RTCGeometry geometry_;
 };

@@ -203,10 +203,7 @@ RTCGeometry create_user_geometry(const Device& device, const G& geometry, std::s
   rtcSetGeometryBoundsFunction(g, &user_detail::bounds<G>, nullptr);
   rtcSetGeometryIntersectFunction(g, &user_detail::intersect<Arch, G>);
   rtcSetGeometryOccludedFunction(g, &user_detail::occluded<Arch, G>);
-  rtcCommitGeometry(g);
-  device.check("user geometry: rtcCommitGeometry");
-  rtcRetainGeometry(g);
-  return g;
+  return handle.commit(device, "user geometry");
 }
 
 }  // namespace sciray::accel

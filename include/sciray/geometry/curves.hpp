@@ -114,11 +114,7 @@ public:
       rtcSetSharedGeometryBuffer(geometry.get(), RTC_BUFFER_TYPE_NORMAL, 0, RTC_FORMAT_FLOAT3, d.normals.data(), 0,
                                  3 * sizeof(float), d.vertex_count());
     device.check("curve: rtcSetSharedGeometryBuffer");
-    rtcCommitGeometry(geometry.get());
-    device.check("curve: rtcCommitGeometry");
-    RTCGeometry result = geometry.get();
-    rtcRetainGeometry(result);
-    return result;
+    return geometry.commit(device, "curve");
   }
 
   template <class Arch>

@@ -132,11 +132,7 @@ public:
     if (type_ == SphereType::oriented_disc)
       rtcSetSharedGeometryBuffer(geometry.get(), RTC_BUFFER_TYPE_NORMAL, 0, RTC_FORMAT_FLOAT3,
                                  arrays_.normals.base, 0, arrays_.normals.byte_stride, count());
-    rtcCommitGeometry(geometry.get());
-    device.check("sphere: rtcCommitGeometry");
-    RTCGeometry result = geometry.get();
-    rtcRetainGeometry(result);
-    return result;
+    return geometry.commit(device, "sphere");
   }
 
   /// The own intersector for one sphere (or disc) against a packet of rays.

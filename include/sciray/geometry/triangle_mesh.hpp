@@ -134,11 +134,7 @@ public:
                                quads ? RTC_FORMAT_UINT4 : RTC_FORMAT_UINT3, arrays_.indices.base, 0,
                                arrays_.indices.byte_stride, arrays_.indices.count);
     device.check("mesh: rtcSetSharedGeometryBuffer");
-    rtcCommitGeometry(geometry.get());
-    device.check("mesh: rtcCommitGeometry");
-    RTCGeometry result = geometry.get();
-    rtcRetainGeometry(result);
-    return result;
+    return geometry.commit(device, "mesh");
   }
 
   /// Interpolated normal and colour at the hits of lanes `lanes` (all hitting this mesh).

@@ -232,8 +232,9 @@ public:
       const float columns[12] = {m.vx.x, m.vx.y, m.vx.z, m.vy.x, m.vy.y, m.vy.z,
                                  m.vz.x, m.vz.y, m.vz.z, m.p.x,  m.p.y,  m.p.z};
       rtcSetGeometryTransform(handle.get(), 0, RTC_FORMAT_FLOAT3X4_COLUMN_MAJOR, columns);
-      rtcCommitGeometry(handle.get());
-      rtcAttachGeometryByID(scene.get(), handle.get(), first_instance + i);
+      RTCGeometry geometry = handle.commit(*this->device_, "world: instance");
+      rtcAttachGeometryByID(scene.get(), geometry, first_instance + i);
+      rtcReleaseGeometry(geometry);
       this->device_->check("world: instance");
       this->bounds_.extend(m.transform(instance.group->bounds()));
     }
