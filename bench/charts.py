@@ -13,7 +13,7 @@ Sweeps (each measured in one run on this machine):
   * memory: bytes per triangle of mesh data and BVH;
   * volume: RMSE of a direct volume rendering (neghip) against one at 8x the highest
     sampling rate, against the sampling rate and the frame time: midpoint sampling with
-    and without empty-space skipping, and pre-integrated.
+    and without empty-space skipping, pre-integrated, and with adaptive step lengths.
 --smoke runs each sweep tiny (the test suite does, so that the pipeline cannot rot) and
 checks the results make sense. Writes charts.json with every figure next to the PNGs.
 """
@@ -143,7 +143,7 @@ def volume_sweep(build, tmp, smoke):
     reference = read_pfm(reference_path)
     curves = {}
     for label, extra in [("empty-space skipping", []), ("every sample", ["--no-empty-space-skipping"]),
-                         ("pre-integrated", ["--preintegration"])]:
+                         ("pre-integrated", ["--preintegration"]), ("adaptive", ["--adaptive-sampling"])]:
         points = []
         for rate in rates:
             path = os.path.join(tmp, f"volume_{rate}.pfm")

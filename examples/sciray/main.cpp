@@ -7,7 +7,8 @@
 //                 [--style ball-and-stick|space-filling] [--sphere-intersector sciray|embree]
 //                 [--clip-plane a,b,c,d]... [--clip-sphere x,y,z,r]...
 //                 [--tf tf.json] [--layout linear|bricked] [--density D] [--sampling-rate R] [--gradient-shading]
-//                 [--iso V]... [--slice a,b,c,d]... [--preintegration] [--no-empty-space-skipping]
+//                 [--iso V]... [--slice a,b,c,d]... [--preintegration] [--adaptive-sampling]
+//                 [--no-empty-space-skipping]
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -96,6 +97,7 @@ struct RenderOptions {
   bool gradient_shading = false;
   bool no_empty_space_skipping = false;
   bool preintegration = false;
+  bool adaptive_sampling = false;
 };
 
 /// `count` comma-separated numbers, as "--clip-plane 0,0,1,-0.5" gives them.
@@ -226,6 +228,7 @@ int render(const RenderOptions& opt) {
     params.volume_gradient_shading = opt.gradient_shading;
     params.empty_space_skipping = !opt.no_empty_space_skipping;
     params.volume_preintegration = opt.preintegration;
+    params.volume_adaptive_sampling = opt.adaptive_sampling;
 
     sciray::FrameBuffer fb(width, height, float_output ? sciray::ColorFormat::rgba32f : sciray::ColorFormat::srgba);
     std::vector<double> frame_ms;
@@ -322,6 +325,8 @@ int main(int argc, char** argv) {
   render_cmd->add_flag("--gradient-shading", opt.gradient_shading, "volumes: shade by the gradient");
   render_cmd->add_flag("--preintegration", opt.preintegration,
                        "volumes: integrate the transfer function over each step (accurate at coarse steps)");
+  render_cmd->add_flag("--adaptive-sampling", opt.adaptive_sampling,
+                       "volumes: step lengths from the local density (finer in dense matter)");
   render_cmd->add_flag("--no-empty-space-skipping", opt.no_empty_space_skipping,
                        "volumes: take every sample (for measuring what skipping saves)");
   render_cmd->add_option("--clip-plane", opt.clip_planes, "a,b,c,d: clip where a*x+b*y+c*z+d < 0 (repeatable)");

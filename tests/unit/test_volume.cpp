@@ -1,7 +1,6 @@
 // Structured volumes: sampling every voxel type and layout against analytic fields,
 // transfer functions, and the ray marcher against closed-form integrals on every ISA.
 #include <catch2/catch.hpp>
-
 #include <cmath>
 #include <memory>
 #include <vector>
@@ -26,7 +25,9 @@ std::shared_ptr<std::vector<Voxel>> linear_field(const VolumeDims& d) {
   return voxels;
 }
 
-double field(double x, double y, double z) { return 3 + 2 * x + y / 2 + 5 * z; }
+double field(double x, double y, double z) {
+  return 3 + 2 * x + y / 2 + 5 * z;
+}
 
 template <class Voxel, template <class> class Layout>
 StructuredRegular<Voxel, Layout> make_volume(const std::shared_ptr<std::vector<Voxel>>& voxels, const VolumeDims& d,
@@ -50,9 +51,11 @@ void check_trilinear_sampling() {
     double expected[W];
     for (int k = 0; k < W; ++k) {
       // Voxel coordinates with an integer y (the field's y/2 rounds for integer voxels).
-      const double x = 36 * testing::hash_uniform(3 * (W * i + k)), y = std::floor(19 * testing::hash_uniform(3 * (W * i + k) + 1));
+      const double x = 36 * testing::hash_uniform(3 * (W * i + k)),
+                   y = std::floor(19 * testing::hash_uniform(3 * (W * i + k) + 1));
       const double z = 10 * testing::hash_uniform(3 * (W * i + k) + 2);
-      px[k] = static_cast<float>(-1 + 0.5 * x), py[k] = static_cast<float>(2 + 2 * y), pz[k] = static_cast<float>(0.5 + z);
+      px[k] = static_cast<float>(-1 + 0.5 * x), py[k] = static_cast<float>(2 + 2 * y),
+      pz[k] = static_cast<float>(0.5 + z);
       expected[k] = std::is_integral_v<Voxel> ? field(x, 2 * std::floor(y / 2), z) : field(x, y, z);
     }
     const Vec3<simd::Float<A>> p{simd::load<A>(px), simd::load<A>(py), simd::load<A>(pz)};
@@ -90,11 +93,45 @@ TEST_CASE("nearest filtering and cell-centred grids", "[volume]") {
   CHECK(cells.bounds().upper.x == 4.f);
 }
 
+TEST_CASE("the cubic filter reproduces linear fields and smooths steps", "[volume]") {
+  const VolumeDims d{12, 10, 9};
+  const auto voxels = linear_field<float>(d);
+  const StructuredRegular<float> volume({voxels->data(), d, voxels}, VolumeGrid{}, VolumeFilter::cubic);
+  using A = xsimd::default_arch;
+  constexpr int W = simd::width<A>;
+  for (int i = 0; i < 100; ++i) {
+    alignas(64) float px[W], py[W], pz[W];
+    for (int k = 0; k < W; ++k) {
+      // Away from the border, where clamped indices would bend the field.
+      px[k] = 1.f + 9.f * testing::hash_uniform(3 * (W * i + k)), py[k] = 1.f + 7.f * testing::hash_uniform(3 * (W * i + k) + 1);
+      pz[k] = 1.f + 6.f * testing::hash_uniform(3 * (W * i + k) + 2);
+    }
+    const auto packet = volume.sample<A>({simd::load<A>(px), simd::load<A>(py), simd::load<A>(pz)});
+    for (int k = 0; k < W; ++k)
+      REQUIRE(simd::lane(packet, k) == Approx(field(px[k], py[k], pz[k])).epsilon(1e-5));
+  }
+  // A step between two voxels: the B-spline rises smoothly through it (and never overshoots).
+  auto step = std::make_shared<std::vector<float>>();
+  for (int z = 0; z < 4; ++z)
+    for (int y = 0; y < 4; ++y)
+      for (int x = 0; x < 8; ++x) step->push_back(x < 4 ? 0.f : 1.f);
+  const StructuredRegular<float> edge({step->data(), {8, 4, 4}, step}, VolumeGrid{}, VolumeFilter::cubic);
+  float last = -1.f;
+  for (float x = 1.f; x <= 6.f; x += 0.25f) {
+    const float v = edge.sample<simd::scalar>(Vec3f{x, 1.5f, 1.5f});
+    CHECK(v >= last - 1e-6f);  // monotone up to rounding on the plateau
+    CHECK(v >= 0.f);
+    CHECK(v <= 1.f + 1e-6f);
+    last = v;
+  }
+  CHECK(edge.sample<simd::scalar>(Vec3f{3.5f, 1.5f, 1.5f}) == Approx(0.5f));
+}
+
 TEST_CASE("transfer functions interpolate and bound their opacity", "[volume][tf]") {
   const TransferFunction tf({{0, 0, 1}, {1, 0, 0}}, {0.f, 1.f, 0.f}, {10.f, 20.f});
   CHECK(tf.opacity<simd::scalar>(15.f) == Approx(1.f));
   CHECK(tf.opacity<simd::scalar>(12.5f) == Approx(0.5f));
-  CHECK(tf.opacity<simd::scalar>(5.f) == 0.f);   // below the range: the first entry
+  CHECK(tf.opacity<simd::scalar>(5.f) == 0.f);  // below the range: the first entry
   CHECK(tf.color<simd::scalar>(17.5f).x == Approx(0.75f));
   CHECK(tf.max_opacity(11.f, 19.f) == Approx(1.f));  // the peak between the ends
   CHECK(tf.max_opacity(10.f, 11.f) == Approx(0.2f));
@@ -128,23 +165,29 @@ TEST_CASE("the ray marcher integrates extinction exactly for linear fields", "[v
   auto voxels = std::make_shared<std::vector<float>>();
   for (std::int64_t z = 0; z < d[2]; ++z)
     for (int k = 0; k < 25; ++k) voxels->push_back(static_cast<float>(z) / 8.f);
-  const auto volume = std::make_shared<StructuredRegular<float>>(LinearLayout<float>(voxels->data(), d, voxels),
-                                                                 StructuredRegular<float>::Grid{{0, 0, 0}, {0.25f, 0.25f, 0.125f}});
+  const auto volume =
+      std::make_shared<StructuredRegular<float>>(LinearLayout<float>(voxels->data(), d, voxels),
+                                                 StructuredRegular<float>::Grid{{0, 0, 0}, {0.25f, 0.25f, 0.125f}});
+  // Any partition of the ray into steps integrates a linear extinction exactly, so
+  // adaptive step lengths must hold to the same closed form.
   for (auto isa : supported_isas())
-    for (float rate : {0.25f, 1.f, 3.7f}) {
-      INFO(simd::isa_name(isa) << " at " << rate << " samples a cell");
-      accel::Device device;
-      shim::EngineWorld world(device);
-      world.add_volume(VolumetricModel<StructuredRegular<float>>(volume, TransferFunction({{1, 1, 1}}, {0.f, 1.f}, {0.f, 1.f}), 3.f));
-      SciVisParams params;
-      params.volume_sampling_rate = rate;
-      const FrameBuffer fb = render_volume(isa, world, params);
-      const float expected = 1.f - std::exp(-1.5f);
-      for (int pixel = 0; pixel < 256; ++pixel) {
-        REQUIRE(fb.color32f()[4 * pixel + 3] == Approx(expected).epsilon(1e-5));
-        REQUIRE(fb.color32f()[4 * pixel] == Approx(expected).epsilon(1e-5));
+    for (float rate : {0.25f, 1.f, 3.7f})
+      for (bool adaptive : {false, true}) {
+        INFO(simd::isa_name(isa) << " at " << rate << " samples a cell" << (adaptive ? ", adaptive" : ""));
+        accel::Device device;
+        shim::EngineWorld world(device);
+        world.add_volume(VolumetricModel<StructuredRegular<float>>(
+            volume, TransferFunction({{1, 1, 1}}, {0.f, 1.f}, {0.f, 1.f}), 3.f));
+        SciVisParams params;
+        params.volume_sampling_rate = rate;
+        params.volume_adaptive_sampling = adaptive;
+        const FrameBuffer fb = render_volume(isa, world, params);
+        const float expected = 1.f - std::exp(-1.5f);
+        for (int pixel = 0; pixel < 256; ++pixel) {
+          REQUIRE(fb.color32f()[4 * pixel + 3] == Approx(expected).epsilon(1e-5));
+          REQUIRE(fb.color32f()[4 * pixel] == Approx(expected).epsilon(1e-5));
+        }
       }
-    }
 }
 
 TEST_CASE("empty-space skipping changes the work, not the image", "[volume][render]") {
@@ -156,7 +199,8 @@ TEST_CASE("empty-space skipping changes the work, not the image", "[volume][rend
       for (std::int64_t x = 0; x < 64; ++x)
         voxels->push_back((x - 40) * (x - 40) + (y - 30) * (y - 30) + (z - 34) * (z - 34) < 100 ? 200 : 0);
   const auto volume = std::make_shared<StructuredRegular<std::uint8_t>>(
-      LinearLayout<std::uint8_t>(voxels->data(), d, voxels), StructuredRegular<std::uint8_t>::Grid{{0, 0, 0}, {1.f / 63, 1.f / 63, 1.f / 63}});
+      LinearLayout<std::uint8_t>(voxels->data(), d, voxels),
+      StructuredRegular<std::uint8_t>::Grid{{0, 0, 0}, {1.f / 63, 1.f / 63, 1.f / 63}});
   accel::Device device;
   shim::EngineWorld world(device);
   world.add_volume(VolumetricModel<StructuredRegular<std::uint8_t>>(
@@ -168,7 +212,8 @@ TEST_CASE("empty-space skipping changes the work, not the image", "[volume][rend
     const auto a = render_volume(isa, world, skip, 48), b = render_volume(isa, world, no_skip, 48);
     // The same sample positions up to the rounding of t + n·dt against n additions of dt.
     float total = 0, worst = 0;
-    for (std::size_t i = 0; i < a.color32f().size(); ++i) worst = std::max(worst, std::fabs(a.color32f()[i] - b.color32f()[i]));
+    for (std::size_t i = 0; i < a.color32f().size(); ++i)
+      worst = std::max(worst, std::fabs(a.color32f()[i] - b.color32f()[i]));
     for (std::size_t i = 3; i < a.color32f().size(); i += 4) total += a.color32f()[i];
     CHECK(worst < 1e-4f);
     CHECK(total > 10.f);  // the ball shows
@@ -215,7 +260,8 @@ TEST_CASE("volume input is checked", "[volume][errors]") {
   CHECK_THROWS_WITH(Volume(LinearLayout<float>(voxels->data(), {2, 2, 2}), {{0, 0, 0}, {1, 0, 1}}),
                     Catch::Contains("'gridSpacing' must be positive"));
   (*voxels)[5] = std::nanf("");
-  const auto with_nan = std::make_shared<Volume>(LinearLayout<float>(voxels->data(), {2, 2, 2}, voxels), Volume::Grid{});
+  const auto with_nan =
+      std::make_shared<Volume>(LinearLayout<float>(voxels->data(), {2, 2, 2}, voxels), Volume::Grid{});
   CHECK_THROWS_WITH(VolumetricModel<Volume>(with_nan, TransferFunction({{1, 1, 1}}, {1.f}, {0.f, 1.f})),
                     Catch::Contains("voxel (1, 0, 1) is not finite"));
 }
@@ -223,8 +269,8 @@ TEST_CASE("volume input is checked", "[volume][errors]") {
 TEST_CASE("clipping geometry cuts volumes as it cuts surfaces", "[volume][clipping][render]") {
   // The constant σ = 2 unit cube, the half z < 0.5 clipped by a plane: half the depth.
   auto voxels = std::make_shared<std::vector<float>>(8, 1.f);
-  const auto volume = std::make_shared<StructuredRegular<float>>(LinearLayout<float>(voxels->data(), {2, 2, 2}, voxels),
-                                                                 VolumeGrid{});
+  const auto volume =
+      std::make_shared<StructuredRegular<float>>(LinearLayout<float>(voxels->data(), {2, 2, 2}, voxels), VolumeGrid{});
   accel::Device device;
   shim::EngineWorld world(device);
   world.add_volume(VolumetricModel<StructuredRegular<float>>(volume, TransferFunction({{1, 1, 1}}, {2.f}, {0.f, 2.f})));
@@ -236,11 +282,13 @@ TEST_CASE("clipping geometry cuts volumes as it cuts surfaces", "[volume][clippi
   for (auto isa : supported_isas()) {
     INFO(simd::isa_name(isa));
     const auto fb = render_volume(isa, world, params, 8);
-    for (int pixel = 0; pixel < 64; ++pixel) REQUIRE(fb.color32f()[4 * pixel + 3] == Approx(1.f - std::exp(-1.f)).epsilon(1e-4));
+    for (int pixel = 0; pixel < 64; ++pixel)
+      REQUIRE(fb.color32f()[4 * pixel + 3] == Approx(1.f - std::exp(-1.f)).epsilon(1e-4));
   }
 }
 
-TEST_CASE("pre-integration keeps a narrow transfer-function feature at coarse steps", "[volume][preintegration][simd]") {
+TEST_CASE("pre-integration keeps a narrow transfer-function feature at coarse steps",
+          "[volume][preintegration][simd]") {
   // The value rises linearly with z from 0 to 1 over the unit cube; the transfer function
   // is opaque only in a band of values 0.02 wide around 0.53, which steps of 0.125 in z
   // step over.
@@ -257,7 +305,8 @@ TEST_CASE("pre-integration keeps a narrow transfer-function feature at coarse st
   const float expected = 1.f - std::exp(-0.2f);
   accel::Device device;
   shim::EngineWorld world(device);
-  world.add_volume(VolumetricModel<StructuredRegular<float>>(volume, TransferFunction({{1, 1, 1}}, opacity, {0.f, 1.f})));
+  world.add_volume(
+      VolumetricModel<StructuredRegular<float>>(volume, TransferFunction({{1, 1, 1}}, opacity, {0.f, 1.f})));
   for (auto isa : supported_isas()) {
     INFO(simd::isa_name(isa));
     SciVisParams midpoint, preintegrated;
@@ -295,7 +344,8 @@ TEST_CASE("a volume over 4 GiB and 2^32 voxels is addressed right", "[volume][la
       std::int64_t x, y, z;
       std::uint64_t n = 97 * (W * i + k);
       do {
-        x = static_cast<std::int64_t>(2046 * testing::hash_uniform(n++)), y = static_cast<std::int64_t>(2046 * testing::hash_uniform(n++));
+        x = static_cast<std::int64_t>(2046 * testing::hash_uniform(n++)),
+        y = static_cast<std::int64_t>(2046 * testing::hash_uniform(n++));
         z = 1024 + static_cast<std::int64_t>(5 * testing::hash_uniform(n++));
       } while (value(x, y, z) > 251 - 12);  // +1 in x, +3 in y, +7 in z stays below 251
       const double fx = testing::hash_uniform(n++), fy = testing::hash_uniform(n++), fz = testing::hash_uniform(n++);

@@ -517,9 +517,7 @@ void VolumeObject::on_commit() {
   switch (const int f = get_int("filter", OSP_VOLUME_FILTER_LINEAR)) {
     case OSP_VOLUME_FILTER_NEAREST: filter = VolumeFilter::nearest; break;
     case OSP_VOLUME_FILTER_LINEAR: filter = VolumeFilter::linear; break;
-    case OSP_VOLUME_FILTER_CUBIC:
-      throw Error(name() + ": parameter 'filter' OSP_VOLUME_FILTER_CUBIC is not supported yet (use "
-                           "OSP_VOLUME_FILTER_NEAREST or OSP_VOLUME_FILTER_LINEAR)");
+    case OSP_VOLUME_FILTER_CUBIC: filter = VolumeFilter::cubic; break;
     default:
       throw Error(name() + ": parameter 'filter' has unknown value " + std::to_string(f) +
                   " (OSP_VOLUME_FILTER_NEAREST = 0, OSP_VOLUME_FILTER_LINEAR = 100, OSP_VOLUME_FILTER_CUBIC = 200)");

@@ -28,6 +28,7 @@ struct SciVisParams {
   bool empty_space_skipping = true;
   bool volume_gradient_shading = false;
   bool volume_preintegration = false;  ///< see VolumeIntegration::preintegration
+  bool volume_adaptive_sampling = false;  ///< see VolumeIntegration::adaptive_sampling
 };
 
 template <class Arch, class WorldT>
@@ -84,6 +85,7 @@ private:
     how.to_light = to_light_;
     how.clipping = world_->clipping();
     how.preintegration = params_.volume_preintegration;
+    how.adaptive_sampling = params_.volume_adaptive_sampling;
     world_->for_each_volume([&](const auto& model) {
       const VolumeSample<Arch> v = model.template integrate<Arch>(ray, active, out.t, how);
       out.color = v.color + out.color * (F(1.f) - v.alpha);

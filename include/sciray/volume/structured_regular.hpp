@@ -1,7 +1,7 @@
 #pragma once
 // StructuredRegular<Voxel, Layout> (OSPRay's `structuredRegular`): a regular grid of
 // scalar voxels (uint8, int16, uint16, float, double) with `gridOrigin`, `gridSpacing`,
-// vertex- or cell-centred values, and nearest or trilinear filtering.
+// vertex- or cell-centred values, and nearest, trilinear or tricubic filtering.
 //
 // Layouts:
 //  - LinearLayout: the caller's array, x fastest, read in place (zero-copy);
@@ -27,7 +27,9 @@
 
 namespace sciray {
 
-enum class VolumeFilter { nearest, linear };
+/// Nearest voxel, trilinear, or tricubic B-spline (smooth, C², reproduces linear fields
+/// exactly; it approximates rather than interpolates the voxels, as OSPRay's cubic filter).
+enum class VolumeFilter { nearest, linear, cubic };
 
 template <class Voxel>
 concept VoxelType = std::is_same_v<Voxel, std::uint8_t> || std::is_same_v<Voxel, std::int16_t> ||
@@ -190,6 +192,11 @@ public:
         v[i] = layout_.at(std::llround(cx[i]), std::llround(cy[i]), std::llround(cz[i]));
       return load<Arch>(v);
     }
+    if (filter_ == VolumeFilter::cubic) {
+      alignas(64) float v[W];
+      for (int i = 0; i < W; ++i) v[i] = cubic(cx[i], cy[i], cz[i]);
+      return load<Arch>(v);
+    }
     // The cell's lower corner, kept one short of the last voxel so the cell exists.
     alignas(64) float corners[8][W], fx[W], fy[W], fz[W];
     for (int i = 0; i < W; ++i) {
@@ -235,6 +242,36 @@ public:
   }
 
 private:
+  /// The uniform cubic B-spline's four weights for a fraction f of a cell.
+  static std::array<float, 4> bspline(float f) {
+    const float f2 = f * f, f3 = f2 * f, g = 1.f - f;
+    return {g * g * g / 6.f, (3.f * f3 - 6.f * f2 + 4.f) / 6.f, (-3.f * f3 + 3.f * f2 + 3.f * f + 1.f) / 6.f,
+            f3 / 6.f};
+  }
+
+  /// Tricubic B-spline at voxel coordinates (x, y, z): 4³ voxels around the cell, indices
+  /// clamped at the border.
+  float cubic(float x, float y, float z) const {
+    const VolumeDims& d = dims();
+    const std::int64_t ix = std::min<std::int64_t>(static_cast<std::int64_t>(x), d[0] - 2),
+                       iy = std::min<std::int64_t>(static_cast<std::int64_t>(y), d[1] - 2),
+                       iz = std::min<std::int64_t>(static_cast<std::int64_t>(z), d[2] - 2);
+    const auto wx = bspline(x - static_cast<float>(ix)), wy = bspline(y - static_cast<float>(iy)),
+               wz = bspline(z - static_cast<float>(iz));
+    const auto clamp = [](std::int64_t i, std::int64_t n) { return std::clamp<std::int64_t>(i, 0, n - 1); };
+    float sum = 0.f;
+    for (int k = 0; k < 4; ++k) {
+      const std::int64_t vz = clamp(iz + k - 1, d[2]);
+      for (int j = 0; j < 4; ++j) {
+        const std::int64_t vy = clamp(iy + j - 1, d[1]);
+        float row = 0.f;
+        for (int i = 0; i < 4; ++i) row += wx[i] * layout_.at(clamp(ix + i - 1, d[0]), vy, vz);
+        sum += wz[k] * wy[j] * row;
+      }
+    }
+    return sum;
+  }
+
   template <class Arch>
   static simd::Float<Arch> load(const float* p) {
     return simd::load<Arch>(p);

@@ -49,7 +49,13 @@ struct VolumeIntegration {
   /// its ends) instead of taking it at the step's middle: coarse steps stay accurate
   /// where the transfer function has narrow features.
   bool preintegration = false;
+  /// Step length from the densest extinction the macrocell can produce, so that a step
+  /// absorbs about the same at any density: finer steps in dense matter, coarser in thin.
+  bool adaptive_sampling = false;
 };
+
+/// The optical depth an adaptive step aims at, at one sample a cell (halved at two, ...).
+inline constexpr float adaptive_optical_depth = 0.1f;
 
 template <class Volume>
 class VolumetricModel {
@@ -113,21 +119,27 @@ public:
     const Vec3f cell_size = grid.spacing * static_cast<float>(macrocell_cells);
     const Vec3f grid_lower = grid.cell_centered ? grid.origin + grid.spacing * 0.5f : grid.origin;
     while (simd::any(live)) {
-      const F step_end = simd::min(t + F(dt), leave);
-      const Vec3<F> p = ray.org + ray.dir * ((t + step_end) * F(0.5f));
+      F step = F(dt);
       auto sampled = live;
-      F next = t + F(dt);
-      if (how.empty_space_skipping) {
-        // The lane's macrocell, and whether the transfer function can show anything there.
-        const Vec3<F> m = volume_->to_voxel(p) * F(1.f / macrocell_cells);
+      // The lane's macrocell: whether the transfer function can show anything there and,
+      // for adaptive sampling, how dense it can get. Plain steps ask at their midpoint,
+      // adaptive ones (whose length depends on the answer) at their start.
+      if (how.empty_space_skipping || how.adaptive_sampling) {
+        const F probe_t = how.adaptive_sampling ? t : simd::min(t + F(0.5f * dt), leave);
+        const Vec3<F> m = volume_->to_voxel(ray.org + ray.dir * probe_t) * F(1.f / macrocell_cells);
         const auto cell_index = [&](const F& v, int axis) {
           return simd::to_int(simd::min(simd::max(v, F(0.f)), F(static_cast<float>(cells_[axis] - 1))));
         };
         const I cx = cell_index(m.x, 0), cy = cell_index(m.y, 1), cz = cell_index(m.z, 2);
         const I index = (cz * I(static_cast<std::int32_t>(cells_[1])) + cy) * I(static_cast<std::int32_t>(cells_[0])) + cx;
-        const auto empty = live & (simd::gather<Arch>(opacity_.data(), index) <= F(0.f));
-        if (simd::any(empty)) {
-          // Skip the steps whose midpoints lie before the macrocell's exit along the ray.
+        const F densest = simd::gather<Arch>(opacity_.data(), index);
+        if (how.adaptive_sampling)
+          // At most `adaptive_optical_depth` absorbed a step, between 4× finer and 4× coarser
+          // than the base rate: fine where the medium is dense, coarse where it is thin.
+          step = simd::min(simd::max(F(adaptive_optical_depth / how.sampling_rate) / densest, F(0.25f * dt)),
+                           F(4.f * dt));
+        const auto empty = live & (densest <= F(0.f));
+        if (how.empty_space_skipping && simd::any(empty)) {
           const Vec3<F> lower{F(grid_lower.x) + simd::to_float(cx) * F(cell_size.x),
                               F(grid_lower.y) + simd::to_float(cy) * F(cell_size.y),
                               F(grid_lower.z) + simd::to_float(cz) * F(cell_size.z)};
@@ -135,11 +147,17 @@ public:
           const Vec3<F> exit_planes = select_positive(ray.dir, upper, lower);
           const Vec3<F> te = (exit_planes - ray.org) * inv;
           const F exit = simd::min(simd::min(te.x, te.y), te.z);
-          const F steps = simd::max(xsimd_ceil((exit - t) * F(1.f / dt) - F(0.5f)), F(1.f));
-          next = simd::select(empty, t + steps * F(dt), next);
+          // Plain steps skip those whose midpoints lie before the exit (keeping the sample
+          // grid); adaptive ones, which have no grid, go straight to the exit.
+          const F skip = how.adaptive_sampling ? simd::max(exit - t, F(1e-3f * dt))
+                                               : simd::max(xsimd_ceil((exit - t) * F(1.f / dt) - F(0.5f)), F(1.f)) * F(dt);
+          step = simd::select(empty, skip, step);
           sampled = sampled & !empty;
         }
       }
+      const F step_end = simd::min(t + step, leave);
+      const F next = t + step;
+      const Vec3<F> p = ray.org + ray.dir * ((t + step_end) * F(0.5f));
       if (how.clipping && simd::any(sampled)) sampled = sampled & !clipped<Arch>(p, sampled, *how.clipping);
       if (simd::any(sampled)) {
         F sigma;
@@ -232,7 +250,9 @@ private:
     for (std::size_t i = 0; i < count; ++i)
       ranges_[2 * i] = std::numeric_limits<float>::infinity(), ranges_[2 * i + 1] = -std::numeric_limits<float>::infinity();
     // Every voxel widens the range of each macrocell whose samples can read it: those
-    // whose cells (plus one voxel of border for the trilinear neighbourhood) contain it.
+    // whose cells, plus one more voxel on each side for the cubic filter's 4³
+    // neighbourhood, contain it. (Every filter's sample lies within the range of the
+    // voxels it reads: the weights are positive and sum to one.)
     for (std::int64_t z = 0; z < d[2]; ++z)
       for (std::int64_t y = 0; y < d[1]; ++y)
         for (std::int64_t x = 0; x < d[0]; ++x) {
@@ -243,8 +263,8 @@ private:
           const std::int64_t at[3] = {x, y, z};
           std::int64_t lo[3], hi[3];
           for (int k = 0; k < 3; ++k) {
-            lo[k] = std::clamp<std::int64_t>((at[k] - 1) / macrocell_cells, 0, cells_[k] - 1);
-            hi[k] = std::clamp<std::int64_t>(at[k] / macrocell_cells, 0, cells_[k] - 1);
+            lo[k] = std::clamp<std::int64_t>((at[k] - 2) / macrocell_cells, 0, cells_[k] - 1);
+            hi[k] = std::clamp<std::int64_t>((at[k] + 1) / macrocell_cells, 0, cells_[k] - 1);
           }
           for (std::int64_t cz = lo[2]; cz <= hi[2]; ++cz)
             for (std::int64_t cy = lo[1]; cy <= hi[1]; ++cy)
