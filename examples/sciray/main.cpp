@@ -165,13 +165,14 @@ int render(const RenderOptions& opt) {
     sciray::accel::Device device;
     sciray::shim::EngineWorld world(device);
     std::optional<sciray_tool::VolumeInfo> volume;
-    if (is_volume_file(opt.mesh)) {
+    if (is_volume_file(opt.mesh)) scene.volume = sciray::io::read_volume(opt.mesh);
+    if (scene.volume) {
       sciray_tool::VolumeOptions volume_options = opt.volume;
       for (const auto& slice : opt.slices) {
         const auto c = parse_floats(slice, 4, "--slice");
         volume_options.slices.push_back({c[0], c[1], c[2], c[3]});
       }
-      volume = sciray_tool::add_volume_file(world, opt.mesh, volume_options);
+      volume = sciray_tool::add_volume(world, *scene.volume, volume_options);
     }
     const double load_ms = ms_since(start);
     // The scene's geometry goes into the world, or into one group the world instances.

@@ -75,11 +75,11 @@ struct VolumeInfo {
   std::string type;
 };
 
-/// Loads `path` and adds it to `world`: its isosurfaces if isovalues are given, its slices
-/// if planes are, else the volume rendered through its transfer function.
-inline VolumeInfo add_volume_file(sciray::shim::EngineWorld& world, const std::string& path, const VolumeOptions& opt) {
+/// Adds a loaded (or generated) volume to `world`: its isosurfaces if isovalues are given,
+/// its slices if planes are, else the volume rendered through its transfer function.
+inline VolumeInfo add_volume(sciray::shim::EngineWorld& world, const sciray::io::VolumeFile& file,
+                             const VolumeOptions& opt) {
   using namespace sciray;
-  const io::VolumeFile file = io::read_volume(path);
   if (opt.layout != "linear" && opt.layout != "bricked")
     throw Error("--layout: expected linear or bricked, got '" + opt.layout + "'");
   const auto add = [&](auto voxel_tag) {

@@ -179,6 +179,12 @@ TEST_CASE("sciray render: volumes through a transfer function and as isosurfaces
   REQUIRE(iso.exit_code == 0);
   CHECK(nlohmann::json::parse(iso.output)["volumes"] == 0);  // surfaces only
 
+  // The procedural standard volumes come through the same path.
+  const Run gravity = run_tool("render builtin:gravity_spheres_128 --size 16x16 --json -o " + scratch("g.png").string());
+  INFO(gravity.output);
+  REQUIRE(gravity.exit_code == 0);
+  CHECK(nlohmann::json::parse(gravity.output)["volume"]["dims"] == nlohmann::json::array({128, 128, 128}));
+
   // A slice through the middle of the hydrogen density: coloured where it cuts the volume.
   const auto slice = scratch("slice.pfm");
   const Run sliced = run_tool("render " SCIRAY_DATA_DIR "/volumes/hydrogen_64x64x64_float32.raw --slice 0,0,1,-31.5 "

@@ -23,6 +23,7 @@
 #include "sciray/geometry/mesh_data.hpp"
 #include "sciray/geometry/spheres.hpp"
 #include "sciray/io/ply.hpp"
+#include "sciray/io/volume.hpp"
 #include "sciray/math/affine.hpp"
 #include "sciray/math/vec.hpp"
 #include "sciray/render/camera.hpp"
@@ -204,6 +205,74 @@ inline CurveData streamlines(std::size_t lines, std::size_t points, float radius
   return curves;
 }
 
+/// A float volume of `n`³ voxels over the unit cube filled by `f(x, y, z)` (coordinates in
+/// [0, 1]), as a volume file would give it.
+template <class F>
+io::VolumeFile procedural_volume(std::int64_t n, F&& f) {
+  io::VolumeFile file;
+  file.kind = io::VoxelKind::float32;
+  file.dims = {n, n, n};
+  file.grid.spacing = Vec3f{1.f, 1.f, 1.f} / static_cast<float>(n - 1);
+  file.voxels = std::make_shared<std::vector<std::byte>>(static_cast<std::size_t>(n * n * n) * sizeof(float));
+  auto* voxels = reinterpret_cast<float*>(file.voxels->data());
+  const float scale = 1.f / static_cast<float>(n - 1);
+  for (std::int64_t z = 0; z < n; ++z)
+    for (std::int64_t y = 0; y < n; ++y)
+      for (std::int64_t x = 0; x < n; ++x)
+        voxels[(z * n + y) * n + x] = f(x * scale, y * scale, z * scale);
+  return file;
+}
+
+/// OSPRay's gravity-spheres test volume: the gravitational potential of 8 point masses,
+/// falling off as 1/r from each (seeded positions and masses), clamped near them.
+inline io::VolumeFile gravity_spheres_volume(std::int64_t n) {
+  std::array<Vec3f, 8> centres;
+  std::array<float, 8> masses;
+  for (int i = 0; i < 8; ++i) {
+    centres[i] = {0.15f + 0.7f * hash_uniform(31 * i), 0.15f + 0.7f * hash_uniform(31 * i + 1),
+                  0.15f + 0.7f * hash_uniform(31 * i + 2)};
+    masses[i] = 0.5f + hash_uniform(31 * i + 3);
+  }
+  return procedural_volume(n, [&](float x, float y, float z) {
+    float potential = 0.f;
+    for (int i = 0; i < 8; ++i) potential += masses[i] / std::max(length(Vec3f{x, y, z} - centres[i]), 0.02f);
+    return potential;
+  });
+}
+
+/// Perlin gradient noise (Perlin 2002, "Improving noise"), 4 octaves at 8 cells per unit:
+/// a volume with structure at every scale and no empty space.
+inline io::VolumeFile perlin_noise_volume(std::int64_t n) {
+  std::array<int, 512> perm;
+  for (int i = 0; i < 256; ++i) perm[i] = i;
+  for (int i = 255; i > 0; --i) std::swap(perm[i], perm[static_cast<int>(hash_uniform(977 + i) * (i + 1))]);
+  for (int i = 0; i < 256; ++i) perm[256 + i] = perm[i];
+  const auto fade = [](float t) { return t * t * t * (t * (t * 6 - 15) + 10); };
+  const auto grad = [](int h, float x, float y, float z) {
+    const float u = (h & 15) < 8 ? x : y, v = (h & 15) < 4 ? y : ((h & 15) == 12 || (h & 15) == 14 ? x : z);
+    return ((h & 1) ? -u : u) + ((h & 2) ? -v : v);
+  };
+  const auto noise = [&](float x, float y, float z) {
+    const int X = static_cast<int>(std::floor(x)) & 255, Y = static_cast<int>(std::floor(y)) & 255,
+              Z = static_cast<int>(std::floor(z)) & 255;
+    x -= std::floor(x), y -= std::floor(y), z -= std::floor(z);
+    const float u = fade(x), v = fade(y), w = fade(z);
+    const int A = perm[X] + Y, AA = perm[A] + Z, AB = perm[A + 1] + Z, B = perm[X + 1] + Y, BA = perm[B] + Z,
+              BB = perm[B + 1] + Z;
+    const auto lerp = [](float t, float a, float b) { return a + t * (b - a); };
+    return lerp(w, lerp(v, lerp(u, grad(perm[AA], x, y, z), grad(perm[BA], x - 1, y, z)),
+                        lerp(u, grad(perm[AB], x, y - 1, z), grad(perm[BB], x - 1, y - 1, z))),
+                lerp(v, lerp(u, grad(perm[AA + 1], x, y, z - 1), grad(perm[BA + 1], x - 1, y, z - 1)),
+                     lerp(u, grad(perm[AB + 1], x, y - 1, z - 1), grad(perm[BB + 1], x - 1, y - 1, z - 1))));
+  };
+  return procedural_volume(n, [&](float x, float y, float z) {
+    float sum = 0.f, amplitude = 1.f, frequency = 8.f;
+    for (int octave = 0; octave < 4; ++octave, amplitude *= 0.5f, frequency *= 2.f)
+      sum += amplitude * noise(x * frequency, y * frequency, z * frequency);
+    return sum;
+  });
+}
+
 /// The Cornell box (the Cornell program's published dimensions, in mm: a 555 mm cube
 /// open at the front, red left wall, green right wall, a short and a tall block, the
 /// light patch under the ceiling) as a quad mesh with per-face colours.
@@ -249,7 +318,9 @@ inline PerspectiveCamera cornell_box_camera(float aspect = 1.f) {
 /// A standard scene by name: "torus_1M", "torus_5M", "torus_20M" (displaced tori of that
 /// many triangles), "cornell_box", "spheres_100k", "spheres_1M", "spheres_10M" (random
 /// spheres), "spheres_100k_mesh" (the 100k spheres tessellated, 80 triangles each),
-/// "streamlines" (2,000 ABC-flow streamlines of 500 points), "instanced_boxes" (a group
+/// "streamlines" (2,000 ABC-flow streamlines of 500 points), "gravity_spheres_128" and
+/// "gravity_spheres_512" (float volumes of 8 point masses' potential), "perlin_128" (a
+/// float volume of Perlin noise), "instanced_boxes" (a group
 /// of 8 boxes placed 10,000 times), "instanced_torus" (the 1M-triangle torus placed
 /// 10,000 times), or a real mesh of the shared data ("bunny", "lucy", "horse",
 /// "turbineblade", "footbones") read from `data_dir`.
@@ -262,6 +333,7 @@ struct StandardScene {
   /// Empty: the geometry is placed directly. Otherwise it forms one group, placed once
   /// per transform.
   std::vector<Affine3f> instances;
+  std::optional<io::VolumeFile> volume;
   std::optional<PerspectiveCamera> camera;  ///< empty: frame the bounds
 };
 
@@ -287,6 +359,9 @@ inline StandardScene standard_scene(std::string_view name, const std::filesystem
   else if (name == "spheres_1M") scene.spheres = random_spheres(1'000'000);
   else if (name == "spheres_10M") scene.spheres = random_spheres(10'000'000);
   else if (name == "streamlines") scene.curves = streamlines(2'000, 500);
+  else if (name == "gravity_spheres_128") scene.volume = gravity_spheres_volume(128);
+  else if (name == "gravity_spheres_512") scene.volume = gravity_spheres_volume(512);
+  else if (name == "perlin_128") scene.volume = perlin_noise_volume(128);
   else if (name == "instanced_torus") scene.mesh = wavy_torus(1'000'000), scene.instances = instance_grid(3.f);
   else if (name == "instanced_boxes") {
     for (int k = 0; k < 8; ++k) {
@@ -299,10 +374,11 @@ inline StandardScene standard_scene(std::string_view name, const std::filesystem
   }
   for (const char* real : {"bunny", "lucy", "horse", "turbineblade", "footbones"})
     if (name == real) scene.mesh = io::read_ply(data_dir / "meshes" / (std::string(name) + ".ply"));
-  if (!scene.mesh && !scene.spheres && !scene.curves && scene.boxes.empty())
+  if (!scene.mesh && !scene.spheres && !scene.curves && scene.boxes.empty() && !scene.volume)
     throw Error("unknown standard scene '" + std::string(name) +
                 "' (torus_1M, torus_5M, torus_20M, cornell_box, spheres_100k, spheres_100k_mesh, spheres_1M, "
-                "spheres_10M, streamlines, instanced_boxes, instanced_torus, bunny, lucy, "
+                "spheres_10M, streamlines, instanced_boxes, instanced_torus, gravity_spheres_128, gravity_spheres_512, "
+                "perlin_128, bunny, lucy, "
                 "horse, turbineblade, footbones)");
   return scene;
 }
