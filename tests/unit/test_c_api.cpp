@@ -2114,6 +2114,14 @@ OSPTransferFunction new_transfer_function(const std::vector<float>& colors, cons
 /// volumetric model in a group placed by an identity instance, a world; an orthographic
 /// camera looking along +z through x, y in [0, 1]; scivis on a black, transparent
 /// background. The volume's parameters are the caller's, before `commit`.
+/// A shared 3D array of `voxels` (x fastest).
+template <class T>
+OSPData shared_voxels(const std::vector<T>& voxels, OSPDataType type, std::uint64_t nx, std::uint64_t ny,
+                      std::uint64_t nz) {
+  REQUIRE(voxels.size() == nx * ny * nz);
+  return ospNewSharedData3D(voxels.data(), type, nx, ny, nz);
+}
+
 struct VolumeScene {
   OSPVolume volume = ospNewVolume("structuredRegular");
   OSPTransferFunction tf = nullptr;
@@ -2123,6 +2131,7 @@ struct VolumeScene {
   OSPWorld world = nullptr;
   OSPCamera camera = ospNewCamera("orthographic");
   OSPRenderer renderer = ospNewRenderer("scivis");
+  const std::vector<float> unit_voxels = std::vector<float>(8, 1.f);
 
   VolumeScene() {
     ospSetVec3f(camera, "position", 0.5f, 0.5f, -5.f);
@@ -2153,6 +2162,13 @@ struct VolumeScene {
     if (!world) world = new_world({instance});
   }
 
+  /// Commits the unit cube of constant value 1 (2³ shared voxels) with `transfer_function`.
+  void commit_constant(OSPTransferFunction transfer_function, float density_scale = 1.f) {
+    OSPData data = shared_voxels(unit_voxels, OSP_FLOAT, 2, 2, 2);
+    commit(data, transfer_function, density_scale);
+    ospRelease(data);
+  }
+
   /// An RGBA32F frame (premultiplied by the volume's opacity), first row at the bottom.
   std::vector<float> render(int size = 16) const {
     OSPFrameBuffer fb = ospNewFrameBuffer(size, size, OSP_FB_RGBA32F, OSP_FB_COLOR);
@@ -2171,25 +2187,14 @@ struct VolumeScene {
   }
 };
 
-/// A shared 3D array of `voxels` (x fastest).
-template <class T>
-OSPData shared_voxels(const std::vector<T>& voxels, OSPDataType type, std::uint64_t nx, std::uint64_t ny,
-                      std::uint64_t nz) {
-  REQUIRE(voxels.size() == nx * ny * nz);
-  return ospNewSharedData3D(voxels.data(), type, nx, ny, nz);
-}
-
 }  // namespace
 
 TEST_CASE("volume: a constant density renders the analytic opacity 1 - exp(-sigma L)", "[c_api][volume][render]") {
   ApiFixture api;
   VolumeScene scene;
   // 2x2x2 vertex-centred voxels of spacing 1: the unit cube, crossed along z (L = 1).
-  const std::vector<float> voxels(8, 1.f);
-  OSPData data = shared_voxels(voxels, OSP_FLOAT, 2, 2, 2);
   // opacity 0.5 everywhere, densityScale 4: sigma = 2 per unit length.
-  scene.commit(data, new_transfer_function({1.f, 0.5f, 0.25f}, {0.5f}, 0.f, 2.f), 4.f);
-  ospRelease(data);
+  scene.commit_constant(new_transfer_function({1.f, 0.5f, 0.25f}, {0.5f}, 0.f, 2.f), 4.f);
   const float alpha = 1.f - std::exp(-2.f);
   for (auto isa : sciray::simd::all_isas) {
     if (!sciray::simd::cpu_supports(isa)) continue;
@@ -2388,10 +2393,7 @@ TEST_CASE("volume: surfaces and volumes in one group; a surface inside the volum
           "[c_api][volume][render]") {
   ApiFixture api;
   VolumeScene scene;
-  const std::vector<float> voxels(8, 1.f);
-  OSPData data = shared_voxels(voxels, OSP_FLOAT, 2, 2, 2);
-  scene.commit(data, new_transfer_function({0.f, 0.f, 1.f}, {2.f}, 0.f, 2.f));
-  ospRelease(data);
+  scene.commit_constant(new_transfer_function({0.f, 0.f, 1.f}, {2.f}, 0.f, 2.f));
   // A box filling x, y and z in [0.5, 2]: the volume in front of it is half as deep.
   const float box[6] = {-1.f, -1.f, 0.5f, 2.f, 2.f, 2.f};
   OSPGeometry g = ospNewGeometry("box");
@@ -2417,10 +2419,7 @@ TEST_CASE("volume: surfaces and volumes in one group; a surface inside the volum
 TEST_CASE("volume: clipping geometry cuts volumes", "[c_api][volume][clipping]") {
   ApiFixture api;
   VolumeScene scene;
-  const std::vector<float> voxels(8, 1.f);
-  OSPData data = shared_voxels(voxels, OSP_FLOAT, 2, 2, 2);
-  scene.commit(data, new_transfer_function({1.f, 1.f, 1.f}, {2.f}, 0.f, 1.f));
-  ospRelease(data);
+  scene.commit_constant(new_transfer_function({1.f, 1.f, 1.f}, {2.f}, 0.f, 1.f));
   // The plane z = 0.5 clips z < 0.5: half the depth of sigma = 2.
   const float plane[4] = {0.f, 0.f, 1.f, -0.5f};
   OSPGeometry g = ospNewGeometry("plane");
@@ -2490,10 +2489,7 @@ TEST_CASE("volume: a recommitted transfer function keeps the macrocells; a recom
 TEST_CASE("volume: volumes in transformed instances are refused by name", "[c_api][volume][errors]") {
   ApiFixture api;
   VolumeScene scene;
-  const std::vector<float> voxels(8, 1.f);
-  OSPData data = shared_voxels(voxels, OSP_FLOAT, 2, 2, 2);
-  scene.commit(data, new_transfer_function({1.f, 1.f, 1.f}, {1.f}, 0.f, 1.f));
-  ospRelease(data);
+  scene.commit_constant(new_transfer_function({1.f, 1.f, 1.f}, {1.f}, 0.f, 1.f));
   set_transform(scene.instance, scale_then_move(1, 1, 1, 0.5f, 0, 0));
   ospCommit(scene.instance);
   CHECK(api.messages.any_error_containing(
