@@ -9,24 +9,11 @@
 #include "sciray/shim/engine.hpp"
 #include "sciray/testing/scenes.hpp"
 #include "support/isas.hpp"
+#include "support/trace.hpp"
 
 using namespace sciray;
 using sciray::test_support::supported_isas;
-
-namespace {
-
-template <class G>
-std::vector<shim::TraceResult> trace(simd::Isa isa, G geometry, const std::vector<Ray<float>>& rays) {
-  accel::Device device;
-  shim::EngineWorld world(device);
-  world.add(std::move(geometry));
-  shim::kernels(isa).commit(world);
-  std::vector<shim::TraceResult> results(rays.size());
-  shim::kernels(isa).trace(world, rays, results);
-  return results;
-}
-
-}  // namespace
+using sciray::test_support::trace_geometry;
 
 TEST_CASE("boxes are hit on the face the slab test names, from outside and inside", "[boxes][simd]") {
   const Box3f box{{-1.f, -2.f, -3.f}, {1.f, 2.f, 3.f}};
@@ -52,7 +39,7 @@ TEST_CASE("boxes are hit on the face the slab test names, from outside and insid
   }
   for (auto isa : supported_isas()) {
     INFO(simd::isa_name(isa));
-    const auto got = trace(isa, Boxes({box}), rays);
+    const auto got = trace_geometry(isa, Boxes({box}), rays);
     for (std::size_t i = 0; i < rays.size(); ++i) {
       INFO("ray " << i);
       REQUIRE(got[i].prim_id == 0);
@@ -82,12 +69,12 @@ TEST_CASE("planes, bounded and unbounded", "[planes][simd]") {
                                      {{0.f, 0.f, 5.f}, {0.f, 0.6f, -0.8f}}};
   for (auto isa : supported_isas()) {
     INFO(simd::isa_name(isa));
-    const auto unbounded = trace(isa, Planes({{0.f, 0.f, 1.f, -2.f}}), rays);
+    const auto unbounded = trace_geometry(isa, Planes({{0.f, 0.f, 1.f, -2.f}}), rays);
     CHECK(unbounded[0].t == Approx(3.f));
     CHECK(unbounded[1].t == Approx(3.f));
     CHECK(unbounded[2].t == Approx(3.f / 0.8f));
     const Box3f small{{-1.f, -1.f, 1.f}, {1.f, 1.f, 3.f}};
-    const auto bounded = trace(isa, Planes({{0.f, 0.f, 1.f, -2.f}}, {small}), rays);
+    const auto bounded = trace_geometry(isa, Planes({{0.f, 0.f, 1.f, -2.f}}, {small}), rays);
     CHECK(bounded[0].t == Approx(3.f));
     CHECK(bounded[1].prim_id == -1);  // outside the bounds
     CHECK(bounded[2].prim_id == -1);  // y = 2.25 at the plane: outside

@@ -11,9 +11,11 @@
 #include "sciray/testing/image_compare.hpp"
 #include "sciray/testing/scenes.hpp"
 #include "support/isas.hpp"
+#include "support/trace.hpp"
 
 using namespace sciray;
 using sciray::test_support::supported_isas;
+using sciray::test_support::trace;
 
 namespace {
 
@@ -26,13 +28,6 @@ MeshData cube_mesh(const Vec3f& lower, const Vec3f& upper) {
   m.indices = {0, 2, 1, 1, 2, 3, 4, 5, 6, 5, 7, 6, 0, 1, 4, 1, 5, 4,
                2, 6, 3, 3, 6, 7, 0, 4, 2, 2, 4, 6, 1, 3, 5, 3, 7, 5};
   return m;
-}
-
-std::vector<shim::TraceResult> trace(simd::Isa isa, shim::EngineWorld& world, const std::vector<Ray<float>>& rays) {
-  shim::kernels(isa).commit(world);
-  std::vector<shim::TraceResult> results(rays.size());
-  shim::kernels(isa).trace(world, rays, results);
-  return results;
 }
 
 }  // namespace

@@ -9,9 +9,11 @@
 #include "sciray/shim/engine.hpp"
 #include "sciray/testing/scenes.hpp"
 #include "support/isas.hpp"
+#include "support/trace.hpp"
 
 using namespace sciray;
 using sciray::test_support::supported_isas;
+using sciray::test_support::trace_geometry;
 
 namespace {
 
@@ -22,16 +24,6 @@ std::shared_ptr<const StructuredRegular<float>> volume_of(const VolumeDims& d, c
     for (std::int64_t y = 0; y < d[1]; ++y)
       for (std::int64_t x = 0; x < d[0]; ++x) voxels->push_back(f(x, y, z));
   return std::make_shared<const StructuredRegular<float>>(LinearLayout<float>(voxels->data(), d, voxels), grid);
-}
-
-std::vector<shim::TraceResult> trace(simd::Isa isa, Isosurface surface, const std::vector<Ray<float>>& rays) {
-  accel::Device device;
-  shim::EngineWorld world(device);
-  world.add(std::move(surface));
-  shim::kernels(isa).commit(world);
-  std::vector<shim::TraceResult> results(rays.size());
-  shim::kernels(isa).trace(world, rays, results);
-  return results;
 }
 
 }  // namespace
@@ -50,7 +42,7 @@ TEST_CASE("the isosurface of a linear field is its exact plane", "[isosurface][s
   }
   for (auto isa : supported_isas()) {
     INFO(simd::isa_name(isa));
-    const auto got = trace(isa, Isosurface(volume, {3.f}), rays);
+    const auto got = trace_geometry(isa, Isosurface(volume, {3.f}), rays);
     for (std::size_t i = 0; i < rays.size(); ++i) {
       const Vec3f o = rays[i].org;
       const float z = (3.f - o.x - 2.f * o.y) / 3.f;  // where the ray meets the plane
@@ -73,7 +65,7 @@ TEST_CASE("a shell thinner than a sampling step is found exactly and missed by s
   for (int j = 0; j < 24; ++j)
     for (int i = 0; i < 24; ++i)  // parallel rays over the blob, offset from the voxel grid
       rays.push_back({{3.52f + i * 0.04f, 3.53f + j * 0.04f, -2.3f}, {0.f, 0.f, 1.f}});
-  const auto exact = trace(shim::select_isa(), Isosurface(volume, {0.5f}), rays);
+  const auto exact = trace_geometry(shim::select_isa(), Isosurface(volume, {0.5f}), rays);
   std::size_t crossing = 0, found = 0, sampled = 0;
   for (std::size_t i = 0; i < rays.size(); ++i) {
     // Whether the ray really crosses 0.5: the maximum along it, finely sampled.
@@ -107,7 +99,7 @@ TEST_CASE("several isovalues: the nearest surface wins", "[isosurface]") {
     return std::sqrt(static_cast<float>((x - 10) * (x - 10) + (y - 10) * (y - 10) + (z - 10) * (z - 10)));
   });
   const std::vector<Ray<float>> rays{{{10.f, 10.f, -5.f}, {0.f, 0.f, 1.f}}, {{10.f, 14.5f, -5.f}, {0.f, 0.f, 1.f}}};
-  const auto got = trace(shim::select_isa(), Isosurface(volume, {3.f, 6.f}), rays);
+  const auto got = trace_geometry(shim::select_isa(), Isosurface(volume, {3.f, 6.f}), rays);
   CHECK(got[0].t == Approx(5.f + 4.f).margin(0.05));   // the outer sphere, radius 6, at z = 4
   CHECK(got[1].t == Approx(5.f + 10.f - std::sqrt(36.f - 4.5f * 4.5f)).margin(0.1));
   CHECK_THROWS_WITH(Isosurface(volume, {}), Catch::Contains("'isovalue' is missing"));
