@@ -46,8 +46,9 @@ struct Stamp {
 /// What render_frame needs of a renderer: a packet of camera rays (with the lanes that
 /// are inside the image) in, colour, alpha and hit distance out.
 template <class R, class Arch>
-concept PacketRenderer = requires(const R& renderer, const Ray<simd::Float<Arch>>& ray, const simd::Mask<Arch>& active) {
-  { renderer.render(ray, active) } -> std::same_as<PixelSample<Arch>>;
+concept PacketRenderer = requires(const R& renderer, const Ray<simd::Float<Arch>>& ray, const simd::Mask<Arch>& active,
+                                  const SampleIndex<Arch>& index) {
+  { renderer.render(ray, active, index) } -> std::same_as<PixelSample<Arch>>;
 };
 
 /// Renders one frame of `renderer` into `fb`, accumulating if the frame buffer does.
@@ -87,12 +88,13 @@ void render_frame(const Renderer& renderer, const PreparedCamera& camera, FrameB
           const F px = F(static_cast<float>(x0)) + lane_dx;
           const F py = F(static_cast<float>(y0)) + lane_dy;
           const M active = (px < F(static_cast<float>(width))) & (py < F(static_cast<float>(height)));
-          const auto ray = camera.generate((px + F(offset.x)) * F(inv_width), (py + F(offset.y)) * F(inv_height));
-          const PixelSample<Arch> sample = renderer.render(ray, active);
           for (int i = 0; i < simd::width<Arch>; ++i) {
             const int x = x0 + i % S::width, y = y0 + i / S::width;
             pixel[i] = x < width && y < height ? y * width + x : -1;
           }
+          const auto ray = camera.generate((px + F(offset.x)) * F(inv_width), (py + F(offset.y)) * F(inv_height));
+          const PixelSample<Arch> sample =
+              renderer.render(ray, active, SampleIndex<Arch>{simd::load<Arch>(pixel), fb.accumulated_frames()});
           fb.write_packet<Arch>(pixel, sample.color, sample.alpha, sample.t, camera.projected_depth(ray, sample.t));
         }
       }

@@ -21,6 +21,12 @@ struct Vec3 {
 
 using Vec3f = Vec3<float>;
 
+/// (v, v, v).
+template <class T>
+constexpr Vec3<T> splat(const T& v) {
+  return {v, v, v};
+}
+
 template <class T>
 Vec3<T> operator+(const Vec3<T>& a, const Vec3<T>& b) {
   return {a.x + b.x, a.y + b.y, a.z + b.z};

@@ -1,15 +1,33 @@
 #pragma once
+#include <cstdint>
+
 #include "sciray/math/vec.hpp"
 
 namespace sciray {
 
-/// A renderer's result for a packet of primary rays.
+/// Where a packet of camera samples comes from: each lane's pixel (linear index into the
+/// frame buffer, -1 outside the image) and which sample of that pixel it is
+/// (frame * pixelSamples + s). Renderers seed their random numbers from these two, so an
+/// image depends only on them, never on which thread rendered which tile.
+template <class Arch>
+struct SampleIndex {
+  simd::Int<Arch> pixel;
+  std::uint32_t sample = 0;
+};
+
+/// A renderer's result for a packet of camera rays, one value per frame buffer channel.
 template <class Arch>
 struct PixelSample {
   using F = simd::Float<Arch>;
+  using I = simd::Int<Arch>;
   Vec3<F> color;  ///< linear RGB
   F alpha;
   F t;  ///< distance to the first hit along the unit ray direction (inf if none)
+  Vec3<F> normal{F(0.f), F(0.f), F(0.f)};  ///< world-space shading normal of the first hit, facing the camera
+  Vec3<F> albedo{F(0.f), F(0.f), F(0.f)};  ///< the first hit's material albedo (background colour where none)
+  I prim_id = I(-1);  ///< primitive, geometry and instance of the first hit; -1 where none
+  I geom_id = I(-1);
+  I inst_id = I(-1);
 };
 
 }  // namespace sciray

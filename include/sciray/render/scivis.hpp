@@ -40,7 +40,7 @@ public:
   SciVis(const WorldT& world, const SciVisParams& params)
       : world_(&world), params_(params), to_light_(-normalize(params.light_direction)) {}
 
-  PixelSample<Arch> render(const Ray<F>& ray, const M& active) const {
+  PixelSample<Arch> render(const Ray<F>& ray, const M& active, const SampleIndex<Arch>& = {}) const {
     const auto hit = accel::intersect<Arch>(world_->scene(), ray, active, true, world_->hit_filter());
     PixelSample<Arch> out;
     out.color = Vec3<F>(params_.background_color);

@@ -1,0 +1,85 @@
+#pragma once
+// Random numbers for renderers, seeded per pixel and per sample so that images do not
+// depend on thread scheduling.
+//
+// The first dimensions of a pixel's samples are low-discrepancy: dimension pair k of
+// sample i is the R2 sequence (Roberts 2018) at i, shifted by a per-pixel, per-pair hash
+// (Cranley-Patterson rotation), so successive samples of one pixel stratify well while
+// neighbouring pixels decorrelate. Dimensions past the low-discrepancy ones come from a
+// PCG32 stream seeded by (pixel, sample).
+#include <cstdint>
+
+namespace sciray {
+
+/// 32-bit integer hash (Wellons' lowbias32): cheap and well mixed.
+inline std::uint32_t hash32(std::uint32_t x) {
+  x ^= x >> 16;
+  x *= 0x7feb352dU;
+  x ^= x >> 15;
+  x *= 0x846ca68bU;
+  x ^= x >> 16;
+  return x;
+}
+
+/// [0,1) from the top 24 bits.
+inline float unit_float(std::uint32_t bits) { return static_cast<float>(bits >> 8) * 0x1p-24f; }
+
+/// PCG32 (O'Neill 2014): a small, statistically strong generator with selectable streams.
+class Pcg32 {
+public:
+  Pcg32(std::uint64_t seed, std::uint64_t stream) : inc_((stream << 1u) | 1u) {
+    next_uint();
+    state_ += seed;
+    next_uint();
+  }
+  std::uint32_t next_uint() {
+    const std::uint64_t old = state_;
+    state_ = old * 6364136223846793005ULL + inc_;
+    const auto xorshifted = static_cast<std::uint32_t>(((old >> 18u) ^ old) >> 27u);
+    const auto rot = static_cast<std::uint32_t>(old >> 59u);
+    return (xorshifted >> rot) | (xorshifted << ((32u - rot) & 31u));
+  }
+  float next_float() { return unit_float(next_uint()); }
+
+private:
+  std::uint64_t state_ = 0;
+  std::uint64_t inc_;
+};
+
+/// The sample stream of one pixel sample: 2D draws, the first `low_discrepancy_pairs`
+/// of them stratified across the pixel's samples.
+class PixelRandom {
+public:
+  static constexpr int low_discrepancy_pairs = 8;
+
+  PixelRandom(std::uint32_t pixel, std::uint32_t sample)
+      : pixel_(pixel), sample_(sample), pcg_((static_cast<std::uint64_t>(pixel) << 32) | sample, pixel) {}
+
+  struct Pair {
+    float u, v;
+  };
+
+  /// The next 2D sample in [0,1)^2.
+  Pair next_2d() {
+    if (pair_ < low_discrepancy_pairs) {
+      constexpr double a1 = 0.7548776662466927, a2 = 0.5698402909980532;  // R2: 1/g, 1/g^2
+      const std::uint32_t h = hash32(pixel_ * 0x9e3779b9U ^ hash32(static_cast<std::uint32_t>(pair_) + 0x632be5abU));
+      const double shift_u = unit_float(h), shift_v = unit_float(hash32(h));
+      ++pair_;
+      return {wrap(shift_u + a1 * sample_), wrap(shift_v + a2 * sample_)};
+    }
+    return {pcg_.next_float(), pcg_.next_float()};
+  }
+  float next_1d() { return next_2d().u; }
+
+private:
+  static float wrap(double v) {
+    const float f = static_cast<float>(v - static_cast<double>(static_cast<std::uint64_t>(v)));
+    return f < 1.f ? f : 0x1.fffffep-1f;
+  }
+  std::uint32_t pixel_, sample_;
+  int pair_ = 0;
+  Pcg32 pcg_;
+};
+
+}  // namespace sciray
