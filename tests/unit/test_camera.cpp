@@ -4,7 +4,9 @@
 
 #include <cmath>
 #include <numbers>
+#include <utility>
 
+#include "sciray/math/sequence.hpp"
 #include "sciray/render/camera.hpp"
 
 using namespace sciray;
@@ -118,4 +120,203 @@ TEST_CASE("frame_bounds sees the whole box", "[camera]") {
     }
   }
   CHECK_THROWS_WITH(frame_bounds(Box3f{}, 1.f), Catch::Contains("empty"));
+}
+
+namespace {
+/// Where `ray` meets the plane at distance `depth` along the unit view axis `forward` from `eye`.
+Vec3f on_plane(const Ray<float>& ray, const Vec3f& eye, const Vec3f& forward, float depth) {
+  const float t = (depth - dot(ray.org - eye, forward)) / dot(ray.dir, forward);
+  return ray.org + ray.dir * t;
+}
+void check_near(const Vec3f& a, const Vec3f& b, float margin) {
+  CHECK(a.x == Approx(b.x).margin(margin));
+  CHECK(a.y == Approx(b.y).margin(margin));
+  CHECK(a.z == Approx(b.z).margin(margin));
+}
+}  // namespace
+
+TEST_CASE("depth of field: every lens point of a screen point meets one focal-plane point", "[camera][dof]") {
+  PerspectiveCamera c;
+  c.position = {1.f, -2.f, 3.f};
+  c.direction = {0.3f, 0.1f, -1.f};
+  c.fovy = 50.f;
+  c.aspect = 1.5f;
+  c.aperture_radius = 0.2f;
+  c.focus_distance = 7.f;
+  const auto cam = prepare(c);
+  const Vec3f forward = normalize(c.direction);
+  for (const auto& [sx, sy] : {std::pair{0.5f, 0.5f}, {0.1f, 0.9f}, {0.95f, 0.2f}}) {
+    const Ray<float> pinhole = cam.generate(sx, sy);  // lens centre
+    CHECK(pinhole.org == c.position);
+    const Vec3f focus = on_plane(pinhole, c.position, forward, c.focus_distance);
+    for (const auto& [u, v] : {std::pair{0.f, 0.f}, {0.99f, 0.5f}, {0.3f, 0.8f}, {0.5f, 0.01f}}) {
+      const Ray<float> ray = cam.generate(sx, sy, u, v);
+      CHECK(length(ray.dir) == Approx(1.f));
+      const Vec3f lens = ray.org - c.position;
+      CHECK(dot(lens, forward) == Approx(0.f).margin(1e-6));  // the lens lies across the view axis
+      CHECK(length(lens) <= c.aperture_radius * 1.0001f);
+      check_near(on_plane(ray, c.position, forward, c.focus_distance), focus, 1e-4f);
+    }
+  }
+  // Corners of the lens square reach the rim of the disc; other depths blur.
+  CHECK(length(cam.generate(0.5f, 0.5f, 0.f, 0.f).org - c.position) == Approx(c.aperture_radius));
+  const Vec3f near_a = on_plane(cam.generate(0.5f, 0.5f, 0.f, 0.5f), c.position, forward, 2.f);
+  const Vec3f near_b = on_plane(cam.generate(0.5f, 0.5f, 0.99f, 0.5f), c.position, forward, 2.f);
+  CHECK(length(near_a - near_b) > 0.1f);
+}
+
+TEST_CASE("stereo: eyes IPD/2 to either side along the right axis converge at focusDistance", "[camera][stereo]") {
+  PerspectiveCamera c;
+  c.position = {0.f, 1.f, 5.f};
+  c.direction = {0.f, 0.f, -1.f};
+  c.fovy = 60.f;
+  c.aspect = 2.f;
+  c.focus_distance = 4.f;
+  c.interpupillary_distance = 0.07f;
+  const Vec3f right{1.f, 0.f, 0.f}, forward{0.f, 0.f, -1.f};
+  const Vec3f convergence = c.position + forward * c.focus_distance;
+
+  c.stereo_mode = StereoMode::left;
+  const Ray<float> left = prepare(c).generate(0.5f, 0.5f);
+  c.stereo_mode = StereoMode::right;
+  const Ray<float> right_eye = prepare(c).generate(0.5f, 0.5f);
+  check_near(left.org, c.position - right * 0.035f, 1e-6f);
+  check_near(right_eye.org, c.position + right * 0.035f, 1e-6f);
+  check_near(on_plane(left, c.position, forward, c.focus_distance), convergence, 1e-5f);
+  check_near(on_plane(right_eye, c.position, forward, c.focus_distance), convergence, 1e-5f);
+  // Any screen point of one eye meets the other eye's ray of that point on the focal plane.
+  c.stereo_mode = StereoMode::left;
+  const Ray<float> left_corner = prepare(c).generate(0.1f, 0.8f);
+  c.stereo_mode = StereoMode::right;
+  const Ray<float> right_corner = prepare(c).generate(0.1f, 0.8f);
+  check_near(on_plane(left_corner, c.position, forward, c.focus_distance),
+             on_plane(right_corner, c.position, forward, c.focus_distance), 1e-5f);
+
+  // Side by side: the left half is the left eye, each half a whole view of half the
+  // aspect; top/bottom: the top half is the left eye.
+  c.stereo_mode = StereoMode::side_by_side;
+  const auto sbs = prepare(c);
+  check_near(sbs.generate(0.25f, 0.5f).org, left.org, 1e-6f);
+  check_near(sbs.generate(0.75f, 0.5f).org, right_eye.org, 1e-6f);
+  check_near(sbs.generate(0.25f, 0.5f).dir, left.dir, 1e-6f);
+  c.stereo_mode = StereoMode::left;
+  c.aspect = 1.f;
+  check_near(sbs.generate(0.05f, 0.9f).dir, prepare(c).generate(0.1f, 0.9f).dir, 1e-5f);
+  c.aspect = 2.f;
+  c.stereo_mode = StereoMode::top_bottom;
+  const auto tb = prepare(c);
+  check_near(tb.generate(0.5f, 0.75f).org, left.org, 1e-6f);
+  check_near(tb.generate(0.5f, 0.25f).org, right_eye.org, 1e-6f);
+}
+
+TEST_CASE("panoramic camera: equirectangular over the whole sphere", "[camera][panoramic]") {
+  PanoramicCamera c;
+  c.position = {1.f, 2.f, 3.f};
+  c.direction = {0.f, 0.f, -1.f};
+  c.up = {0.f, 1.f, 0.f};
+  const auto cam = prepare(c);
+  const Vec3f forward{0.f, 0.f, -1.f}, right{1.f, 0.f, 0.f}, up{0.f, 1.f, 0.f};
+  check_near(cam.generate(0.5f, 0.5f).dir, forward, 1e-6f);
+  check_near(cam.generate(0.75f, 0.5f).dir, right, 1e-6f);
+  check_near(cam.generate(0.25f, 0.5f).dir, -right, 1e-6f);
+  check_near(cam.generate(0.f, 0.5f).dir, -forward, 1e-6f);
+  check_near(cam.generate(1.f, 0.5f).dir, -forward, 1e-6f);
+  check_near(cam.generate(0.3f, 1.f).dir, up, 1e-6f);
+  check_near(cam.generate(0.8f, 0.f).dir, -up, 1e-6f);
+  check_near(cam.generate(0.5f, 0.75f).dir, normalize(forward + up), 1e-6f);
+  CHECK(cam.generate(0.2f, 0.3f).org == c.position);
+  // Onto: every direction is the ray of the screen point its longitude and latitude give.
+  for (const Vec3f d : {Vec3f{0.3f, -0.5f, 0.8f}, Vec3f{-0.9f, 0.1f, 0.2f}, Vec3f{0.f, 0.2f, 1.f},
+                        Vec3f{0.01f, -1.f, 0.f}}) {
+    const Vec3f n = normalize(d);
+    const float sx = 0.5f + std::atan2(dot(n, right), dot(n, forward)) / (2.f * std::numbers::pi_v<float>);
+    const float sy = 0.5f + std::asin(dot(n, up)) / std::numbers::pi_v<float>;
+    check_near(cam.generate(sx, sy).dir, n, 1e-5f);
+  }
+
+  // Omni-directional stereo: each eye IPD/2 to the side of the ray's horizontal heading.
+  c.stereo_mode = StereoMode::side_by_side;
+  c.interpupillary_distance = 0.06f;
+  const auto stereo = prepare(c);
+  check_near(stereo.generate(0.25f, 0.5f).org, c.position - right * 0.03f, 1e-6f);  // left eye, looking ahead
+  check_near(stereo.generate(0.75f, 0.5f).org, c.position + right * 0.03f, 1e-6f);  // right eye, looking ahead
+  const Ray<float> left_looking_right = stereo.generate(0.375f, 0.5f);
+  check_near(left_looking_right.dir, right, 1e-6f);
+  check_near(left_looking_right.org, c.position + forward * 0.03f, 1e-6f);
+  CHECK(dot(stereo.generate(0.1f, 0.7f).org - c.position, stereo.generate(0.1f, 0.7f).dir) == Approx(0.f).margin(1e-6));
+}
+
+TEST_CASE("orthographic cameras ignore the lens sample; packets with lens and stereo equal single rays",
+          "[camera][simd]") {
+  OrthographicCamera o;
+  const auto ortho = prepare(o);
+  check_near(ortho.generate(0.2f, 0.7f, 0.f, 0.9f).org, ortho.generate(0.2f, 0.7f).org, 0.f);
+
+  using A = xsimd::sse2;
+  using F = simd::Float<A>;
+  PerspectiveCamera c;
+  c.aperture_radius = 0.1f;
+  c.focus_distance = 3.f;
+  c.stereo_mode = StereoMode::side_by_side;
+  PanoramicCamera p;
+  p.stereo_mode = StereoMode::top_bottom;
+  const F sx{0.f, 0.3f, 0.6f, 1.f}, sy{1.f, 0.1f, 0.5f, 0.7f}, u{0.1f, 0.5f, 0.9f, 0.3f}, v{0.7f, 0.5f, 0.2f, 0.f};
+  const auto check_packet = [&](const auto& cam) {
+    const Ray<F> packet = cam.generate(sx, sy, u, v);
+    for (int i = 0; i < simd::width<A>; ++i) {
+      const Ray<float> single = cam.generate(simd::lane(sx, i), simd::lane(sy, i), simd::lane(u, i), simd::lane(v, i));
+      CHECK(simd::lane(packet.org.x, i) == Approx(single.org.x).margin(1e-6));
+      CHECK(simd::lane(packet.org.z, i) == Approx(single.org.z).margin(1e-6));
+      CHECK(simd::lane(packet.dir.x, i) == Approx(single.dir.x).margin(1e-5));
+      CHECK(simd::lane(packet.dir.y, i) == Approx(single.dir.y).margin(1e-5));
+    }
+  };
+  check_packet(prepare(c));
+  check_packet(prepare(p));
+}
+
+TEST_CASE("lens and stereo parameters that cannot work are named", "[camera][errors]") {
+  PerspectiveCamera c;
+  c.aperture_radius = -0.1f;
+  CHECK_THROWS_WITH(prepare(c), Catch::Contains("'apertureRadius'"));
+  c.aperture_radius = 0.1f;
+  c.focus_distance = 0.f;
+  CHECK_THROWS_WITH(prepare(c), Catch::Contains("'focusDistance'"));
+  c.focus_distance = 1.f;
+  c.stereo_mode = static_cast<StereoMode>(7);
+  CHECK_THROWS_WITH(prepare(c), Catch::Contains("'stereoMode'") && Catch::Contains("got 7"));
+  c.stereo_mode = StereoMode::left;
+  c.interpupillary_distance = -1.f;
+  CHECK_THROWS_WITH(prepare(c), Catch::Contains("'interpupillaryDistance'"));
+  PanoramicCamera p;
+  p.up = p.direction;
+  CHECK_THROWS_WITH(prepare(p), Catch::Contains("panoramic camera: 'up' is parallel"));
+  CHECK_THROWS_WITH(stereo_mode_from_int("panoramic", -1), Catch::Contains("panoramic camera: 'stereoMode'"));
+}
+
+TEST_CASE("camera samples: the centre first, then film and lens positions stratified and unrelated",
+          "[camera][sampling]") {
+  for (std::uint32_t pixel : {0u, 17u, 123456u}) {
+    CHECK(camera_sample(pixel, 0).film_x == 0.5f);
+    CHECK(camera_sample(pixel, 0).film_y == 0.5f);
+  }
+  CHECK(camera_sample(1, 5).film_x != camera_sample(2, 5).film_x);  // pixels are decorrelated
+  // 1024 samples of one pixel: each quarter of each of the four dimensions gets a
+  // quarter of them (within 6; independent random samples would miss by 14 on average),
+  // and film and lens are uncorrelated.
+  int quarters[4][4] = {};
+  double film_lens = 0.0;
+  for (std::uint32_t i = 0; i < 1024; ++i) {
+    const CameraSample s = camera_sample(99, i);
+    const float dims[4] = {s.film_x, s.film_y, s.lens_u, s.lens_v};
+    for (int d = 0; d < 4; ++d) {
+      REQUIRE(dims[d] >= 0.f);
+      REQUIRE(dims[d] < 1.f);
+      ++quarters[d][static_cast<int>(dims[d] * 4)];
+    }
+    film_lens += (s.film_x - 0.5) * (s.lens_u - 0.5) * 12.0;  // correlation of two uniform variables
+  }
+  for (int d = 0; d < 4; ++d)
+    for (int q = 0; q < 4; ++q) CHECK(std::abs(quarters[d][q] - 256) <= 6);
+  CHECK(std::abs(film_lens / 1024) < 0.05);
 }

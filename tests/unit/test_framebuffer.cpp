@@ -1,16 +1,32 @@
-// Frame buffer formats, accumulation arithmetic and limits, through the scalar path.
+// Frame buffer formats, channels, accumulation arithmetic (per tile), the error estimate,
+// image operations and limits, through the scalar path.
 #include <catch2/catch.hpp>
 
 #include <cmath>
 #include <limits>
+#include <numbers>
+#include <random>
 
 #include "sciray/frame/framebuffer.hpp"
+#include "sciray/frame/pixel_filter.hpp"
 
 using namespace sciray;
 
 namespace {
+PixelSample<simd::scalar> sample_of(Vec3f color, float alpha, float depth = 1.f) {
+  PixelSample<simd::scalar> s;
+  s.color = color;
+  s.alpha = alpha;
+  s.t = depth;
+  return s;
+}
 void write(FrameBuffer& fb, std::int32_t pixel, Vec3f color, float alpha, float depth = 1.f) {
-  fb.write_packet<simd::scalar>(&pixel, color, alpha, depth, depth);
+  fb.write_packet<simd::scalar>(&pixel, sample_of(color, alpha, depth), depth);
+}
+/// Ends a frame that wrote every pixel of `fb`.
+void finish(FrameBuffer& fb) {
+  for (int tile = 0; tile < fb.tile_count(); ++tile) fb.finish_tile(tile);
+  fb.finish_frame();
 }
 }  // namespace
 
@@ -21,7 +37,7 @@ TEST_CASE("colour formats encode as documented", "[frame]") {
   for (FrameBuffer* fb : {&linear, &srgb, &floats}) {
     write(*fb, 0, {0.5f, 0.214041f, 2.f}, 0.5f);
     write(*fb, 1, {std::nanf(""), -1.f, 0.f}, 1.f);
-    fb->finish_frame();
+    finish(*fb);
   }
   CHECK(linear.color8()[0] == 128);
   CHECK(linear.color8()[1] == 55);
@@ -45,26 +61,208 @@ TEST_CASE("accumulation is the running mean of frames", "[frame]") {
   for (int f = 0; f < 4; ++f) {
     CHECK(fb.accumulated_frames() == static_cast<std::uint32_t>(f));
     write(fb, 0, {samples[f], 0.f, 0.f}, 1.f, 10.f + f);
-    fb.finish_frame();
+    finish(fb);
     sum += samples[f];
     CHECK(fb.color32f()[0] == Approx(sum / (f + 1)));
     CHECK(fb.depth()[0] == 10.f + f);  // depth is the latest frame's
   }
   fb.reset_accumulation();
+  CHECK(fb.tile_frames(0) == 0);
   write(fb, 0, {0.3f, 0.f, 0.f}, 1.f);
-  fb.finish_frame();
+  finish(fb);
   CHECK(fb.color32f()[0] == 0.3f);
   CHECK(fb.accumulated_frames() == 1);
 }
 
 TEST_CASE("without an accum channel every frame replaces the last", "[frame]") {
-  FrameBuffer fb(1, 1, ColorFormat::rgba32f, channel_color);
-  write(fb, 0, {0.2f, 0.f, 0.f}, 1.f);
-  fb.finish_frame();
-  write(fb, 0, {0.6f, 0.f, 0.f}, 1.f);
-  fb.finish_frame();
+  FrameBuffer fb(1, 1, ColorFormat::rgba32f, channel_color | channel_normal);
+  PixelSample<simd::scalar> s = sample_of({0.2f, 0.f, 0.f}, 1.f);
+  s.normal = {0.f, 1.f, 0.f};
+  std::int32_t pixel = 0;
+  fb.write_packet<simd::scalar>(&pixel, s, 1.f);
+  finish(fb);
+  s.color = {0.6f, 0.f, 0.f};
+  s.normal = {1.f, 0.f, 0.f};
+  fb.write_packet<simd::scalar>(&pixel, s, 1.f);
+  finish(fb);
   CHECK(fb.color32f()[0] == 0.6f);
+  CHECK(fb.normal()[0] == 1.f);
+  CHECK(fb.normal()[1] == 0.f);
   CHECK(fb.accum().empty());
+  CHECK(fb.tile_frames(0) == 0);  // every frame renders sample 0
+}
+
+TEST_CASE("normal and albedo average like colour; ids are the latest frame's", "[frame]") {
+  const unsigned all = channel_color | channel_accum | channel_normal | channel_albedo | channel_id_primitive |
+                       channel_id_object | channel_id_instance;
+  FrameBuffer fb(2, 1, ColorFormat::rgba32f, all);
+  CHECK(fb.primitive_id()[0] == no_id);  // nothing rendered: nothing hit
+  CHECK(fb.normal()[0] == 0.f);
+  std::int32_t pixel = 0;
+  PixelSample<simd::scalar> s = sample_of({1.f, 1.f, 1.f}, 1.f);
+  s.normal = {0.f, 0.f, 1.f}, s.albedo = {0.8f, 0.4f, 0.2f};
+  s.prim_id = 7, s.geom_id = 2, s.inst_id = 1;
+  fb.write_packet<simd::scalar>(&pixel, s, 1.f);
+  finish(fb);
+  CHECK(fb.primitive_id()[0] == 7u);
+  CHECK(fb.object_id()[0] == 2u);
+  CHECK(fb.instance_id()[0] == 1u);
+  CHECK(fb.primitive_id()[1] == no_id);
+  // A second frame misses: normal and albedo average, ids say nothing was hit.
+  s.normal = {0.f, 0.f, 0.f}, s.albedo = {0.f, 0.f, 0.f};
+  s.prim_id = s.geom_id = s.inst_id = -1;
+  fb.write_packet<simd::scalar>(&pixel, s, 1.f);
+  finish(fb);
+  CHECK(fb.normal()[2] == Approx(0.5f));
+  CHECK(fb.albedo()[0] == Approx(0.4f));
+  CHECK(fb.albedo()[1] == Approx(0.2f));
+  CHECK(fb.primitive_id()[0] == no_id);
+  CHECK(fb.object_id()[0] == no_id);
+  CHECK(fb.instance_id()[0] == no_id);
+  CHECK(fb.memory_bytes() == 2 * (4 * 4 + 4 * 4 + 3 * 4 + 3 * 4 + 3 * 4));
+}
+
+TEST_CASE("frames are counted per tile: a tile left out keeps its average", "[frame]") {
+  // Two tiles side by side; tile 1 gets three more frames than tile 0.
+  FrameBuffer fb(2 * tile_size, 1, ColorFormat::rgba32f);
+  REQUIRE(fb.tile_count() == 2);
+  const std::int32_t left = 3, right = tile_size + 3;
+  REQUIRE(fb.tile_of(left) == 0);
+  REQUIRE(fb.tile_of(right) == 1);
+  write(fb, left, {0.4f, 0.f, 0.f}, 1.f);
+  write(fb, right, {0.4f, 0.f, 0.f}, 1.f);
+  finish(fb);
+  for (float v : {0.8f, 0.f, 1.2f}) {
+    write(fb, right, {v, 0.f, 0.f}, 1.f);
+    fb.finish_tile(1);
+    fb.finish_frame();
+  }
+  CHECK(fb.accumulated_frames() == 4);
+  CHECK(fb.tile_frames(0) == 1);
+  CHECK(fb.tile_frames(1) == 4);
+  CHECK(fb.color32f()[4 * left] == Approx(0.4f));
+  CHECK(fb.color32f()[4 * right] == Approx((0.4f + 0.8f + 0.f + 1.2f) / 4));
+}
+
+TEST_CASE("the error estimate is unbiased for independent frames of any count", "[frame][variance]") {
+  // Each pixel's frames are normal with sigma 0.1 around 0.5: the mean absolute error of
+  // the average of n frames is sigma sqrt(2 / (pi n)). The estimate over 64x64 pixels
+  // must match it, and the actual error, for even and odd n alike.
+  constexpr int size = 64;
+  constexpr double sigma = 0.1;
+  FrameBuffer fb(size, size, ColorFormat::rgba32f, channel_color | channel_accum | channel_variance);
+  std::mt19937 rng(7);
+  std::normal_distribution<float> noise(0.5f, static_cast<float>(sigma));
+  std::vector<double> sums(size * size, 0.0);
+  CHECK(std::isinf(fb.variance()));
+  for (int n = 1; n <= 9; ++n) {
+    for (std::int32_t p = 0; p < size * size; ++p) {
+      const float v = noise(rng);
+      sums[static_cast<std::size_t>(p)] += v;
+      write(fb, p, {v, v, v}, 1.f);  // grey: luminance v
+    }
+    finish(fb);
+    if (n < 2) {
+      CHECK(std::isinf(fb.variance()));
+      continue;
+    }
+    double actual = 0.0;
+    for (double s : sums) actual += std::abs(s / n - 0.5);
+    actual /= size * size;
+    const double expected = sigma * std::sqrt(2.0 / (std::numbers::pi * n));
+    INFO("frames " << n << ": estimate " << fb.variance() << ", expected " << expected << ", actual " << actual);
+    CHECK(fb.variance() == Approx(expected).epsilon(0.05));
+    CHECK(fb.variance() == Approx(actual).epsilon(0.05));
+    for (int tile = 0; tile < fb.tile_count(); ++tile) REQUIRE(fb.tile_error(tile) == Approx(expected).epsilon(0.3));
+  }
+  CHECK(fb.tile_converged(0, 1.f));
+  CHECK(!fb.tile_converged(0, 0.f));  // a threshold of 0 turns adaptivity off
+  fb.reset_accumulation();
+  CHECK(std::isinf(fb.variance()));
+}
+
+TEST_CASE("tonemapper: OSPRay's filmic curve, hand-computed", "[frame][tonemapper]") {
+  // f(x) = x^a / (x^(a d) b + c) with b, c solved for f(midIn) = midOut, f(hdrMax) = 1.
+  // contrast 1, shoulder 1, midIn 0.25 -> midOut 0.5, hdrMax 4: b = 14/15, c = 4/15,
+  // f(x) = 15 x / (14 x + 4).
+  TonemapperParams simple;
+  simple.contrast = 1.f, simple.shoulder = 1.f, simple.mid_in = 0.25f, simple.mid_out = 0.5f, simple.hdr_max = 4.f;
+  simple.aces_color = false;
+  const Tonemapper linear_curve(simple);
+  CHECK(linear_curve.b() == Approx(14.0 / 15));
+  CHECK(linear_curve.c() == Approx(4.0 / 15));
+  const Vec3f out = linear_curve(Vec3f{0.25f, 1.f, 4.f});
+  CHECK(out.x == Approx(0.5f));
+  CHECK(out.y == Approx(15.0 / 18));
+  CHECK(out.z == Approx(1.f));
+  CHECK(linear_curve(Vec3f{100.f, 0.f, -1.f}).x == 1.f);  // clamped above, 0 and negatives give 0
+  CHECK(linear_curve(Vec3f{100.f, 0.f, -1.f}).y == 0.f);
+  CHECK(linear_curve(Vec3f{100.f, 0.f, -1.f}).z == 0.f);
+
+  // The ACES defaults (contrast 1.6773, shoulder 0.9714, 0.18 -> 0.18, hdrMax 11.0785):
+  // b = 1.117427, c = 0.244676 (computed in double by hand), so f(1) = 1 / (b + c).
+  TonemapperParams defaults;
+  defaults.aces_color = false;
+  const Tonemapper aces_curve(defaults);
+  CHECK(aces_curve.b() == Approx(1.1174269).epsilon(1e-5));
+  CHECK(aces_curve.c() == Approx(0.2446756).epsilon(1e-5));
+  const Vec3f grey = aces_curve(Vec3f{0.18f, 1.f, 11.0785f});
+  CHECK(grey.x == Approx(0.18f).epsilon(1e-5));
+  CHECK(grey.y == Approx(0.7341591).epsilon(1e-5));
+  CHECK(grey.z == Approx(1.f).epsilon(1e-5));
+  // With the ACES colour matrices (OSPRay's default), rgb (0.5, 0.2, 0.1), at exposure 1
+  // and 2, against the same matrices and curve evaluated in double.
+  const Vec3f colour = Tonemapper()(Vec3f{0.5f, 0.2f, 0.1f});
+  CHECK(colour.x == Approx(0.5247254).epsilon(1e-4));
+  CHECK(colour.y == Approx(0.2168557).epsilon(1e-4));
+  CHECK(colour.z == Approx(0.0977268).epsilon(1e-4));
+  TonemapperParams brighter;
+  brighter.exposure = 2.f;
+  const Vec3f exposed = Tonemapper(brighter)(Vec3f{0.5f, 0.2f, 0.1f});
+  CHECK(exposed.x == Approx(0.7783887).epsilon(1e-4));
+  CHECK(exposed.y == Approx(0.4537339).epsilon(1e-4));
+  CHECK(exposed.z == Approx(0.2539022).epsilon(1e-4));
+
+  // Packets give the scalar result.
+  using A = xsimd::sse2;
+  using F = simd::Float<A>;
+  const Vec3<F> packet = Tonemapper()(Vec3<F>{F(0.5f), F(0.2f), F(0.1f)});
+  CHECK(simd::lane(packet.x, 2) == Approx(colour.x).epsilon(1e-5));
+  CHECK(simd::lane(packet.z, 3) == Approx(colour.z).epsilon(1e-5));
+}
+
+TEST_CASE("tonemapper parameters that cannot work are named", "[frame][tonemapper][errors]") {
+  const auto with = [](auto change) {
+    TonemapperParams p;
+    change(p);
+    return Tonemapper(p);
+  };
+  CHECK_THROWS_WITH(with([](auto& p) { p.contrast = 0.f; }), Catch::Contains("'contrast'"));
+  CHECK_THROWS_WITH(with([](auto& p) { p.shoulder = 1.5f; }), Catch::Contains("'shoulder'"));
+  CHECK_THROWS_WITH(with([](auto& p) { p.mid_in = 0.f; }), Catch::Contains("'midIn'"));
+  CHECK_THROWS_WITH(with([](auto& p) { p.mid_out = 2.f; }), Catch::Contains("'midOut'"));
+  CHECK_THROWS_WITH(with([](auto& p) { p.hdr_max = 0.5f; }), Catch::Contains("'hdrMax'"));
+  CHECK_THROWS_WITH(with([](auto& p) { p.exposure = std::nanf(""); }), Catch::Contains("'exposure'"));
+  CHECK_THROWS_WITH(with([](auto& p) { p.mid_in = 1.f, p.hdr_max = 1.f; }), Catch::Contains("greater than midIn"));
+}
+
+TEST_CASE("image operations change the output, not the accumulation", "[frame][tonemapper]") {
+  FrameBuffer fb(1, 1, ColorFormat::rgba32f);
+  write(fb, 0, {0.25f, 0.25f, 0.25f}, 0.5f);
+  finish(fb);
+  TonemapperParams p;
+  p.aces_color = false;
+  const Tonemapper tonemapper(p);
+  fb.set_image_operations({tonemapper});  // redone from the accumulation at once
+  const float mapped = tonemapper(Vec3f{0.25f, 0.25f, 0.25f}).x;
+  CHECK(fb.color32f()[0] == Approx(mapped));
+  CHECK(fb.color32f()[3] == 0.5f);  // alpha untouched
+  write(fb, 0, {0.75f, 0.75f, 0.75f}, 0.5f);
+  finish(fb);
+  CHECK(fb.accum()[0] == Approx(1.f));
+  CHECK(fb.color32f()[0] == Approx(tonemapper(Vec3f{0.5f, 0.5f, 0.5f}).x));
+  fb.set_image_operations({});
+  CHECK(fb.color32f()[0] == Approx(0.5f));
 }
 
 TEST_CASE("lanes with a negative pixel index write nothing", "[frame]") {
@@ -78,4 +276,45 @@ TEST_CASE("frame buffer sizes are checked", "[frame][errors]") {
   CHECK_THROWS_WITH(FrameBuffer(0, 10), Catch::Contains("size 0x10"));
   CHECK_THROWS_WITH(FrameBuffer(65536, 65536), Catch::Contains("fewer than 2^31 pixels"));
   CHECK(FrameBuffer(3, 5).memory_bytes() == 15 * (4 + 4 * 4 + 4 + 4));
+  CHECK(FrameBuffer(33, 17).tile_count() == 3 * 2);
+}
+
+TEST_CASE("pixel filters: offsets distributed as the filter, the centre for u = 1/2", "[frame][filter]") {
+  CHECK(FilterSampler::of(PixelFilter::point).sample(0.1f, 0.9f).x == 0.f);
+  CHECK(FilterSampler::of(PixelFilter::box).sample(0.1f, 0.9f).x == Approx(-0.4f));
+  CHECK(FilterSampler::of(PixelFilter::box).sample(0.1f, 0.9f).y == Approx(0.4f));
+  for (PixelFilter filter : {PixelFilter::box, PixelFilter::gauss, PixelFilter::mitchell, PixelFilter::blackman_harris}) {
+    INFO("filter " << static_cast<int>(filter));
+    const FilterSampler& sampler = FilterSampler::of(filter);
+    const float radius = filter_radius(filter);
+    CHECK(sampler.sample(0.5f, 0.5f).x == 0.f);
+    CHECK(sampler.sample(0.5f, 0.5f).y == 0.f);
+    // A histogram of 2^16 stratified draws in bins of 1/16 pixel against the integral
+    // of max(profile, 0) over each bin: within 1% of all the mass in total.
+    const int bins = static_cast<int>(std::lround(2.f * radius * 16.f));
+    std::vector<double> histogram(static_cast<std::size_t>(bins), 0.0), expected(histogram.size(), 0.0);
+    constexpr int draws = 1 << 16;
+    for (int k = 0; k < draws; ++k) {
+      const float u = (static_cast<float>(k) + 0.5f) / draws;
+      const float x = sampler.sample(u, 0.5f).x;
+      REQUIRE(std::abs(x) <= radius);
+      CHECK(sampler.sample(1.f - u, 0.5f).x == Approx(-x).margin(1e-5));
+      const int bin = std::min(bins - 1, static_cast<int>((x + radius) * 16.f));
+      histogram[static_cast<std::size_t>(bin)] += 1.0 / draws;
+    }
+    double total = 0.0;
+    for (int b = 0; b < bins; ++b)
+      for (int s = 0; s < 64; ++s) {
+        const float x = -radius + (static_cast<float>(b) + (static_cast<float>(s) + 0.5f) / 64.f) / 16.f;
+        const double w = std::max(0.f, filter_profile(filter, x));
+        expected[static_cast<std::size_t>(b)] += w, total += w;
+      }
+    double l1 = 0.0;
+    for (std::size_t b = 0; b < histogram.size(); ++b) l1 += std::abs(histogram[b] - expected[b] / total);
+    CHECK(l1 < 0.01);
+  }
+  CHECK(filter_profile(PixelFilter::mitchell, 1.5f) < 0.f);  // the lobe the sampler clips
+  CHECK(filter_profile(PixelFilter::gauss, 1.5f) == Approx(0.f).margin(1e-7));
+  CHECK(filter_profile(PixelFilter::blackman_harris, 0.f) == Approx(1.f));
+  CHECK_THROWS_WITH(pixel_filter_from_int(5), Catch::Contains("'pixelFilter'"));
 }

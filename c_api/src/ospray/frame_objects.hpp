@@ -1,6 +1,7 @@
 #pragma once
-// OSPFrameBuffer and OSPFuture: a sciray frame buffer the application maps, and a frame
-// rendered on a thread of its own that can be waited on, polled and cancelled.
+// OSPFrameBuffer, OSPImageOperation and OSPFuture: a sciray frame buffer the application
+// maps, the image operations it applies to its colour, and a frame rendered on a thread
+// of its own that can be waited on, polled and cancelled.
 #include <chrono>
 #include <condition_variable>
 #include <functional>
@@ -8,9 +9,24 @@
 
 #include "object.hpp"
 #include "sciray/frame/framebuffer.hpp"
+#include "sciray/frame/image_ops.hpp"
 #include "sciray/frame/render_frame.hpp"
 
 namespace sciray::ospray {
+
+/// OSPRay's `tonemapper` image operation (exposure, contrast, shoulder, midIn, midOut,
+/// hdrMax, acesColor); a frame buffer takes its parameters at the frame buffer's commit.
+class ImageOperationObject : public Object {
+public:
+  explicit ImageOperationObject(std::string type) : Object(OSP_IMAGE_OPERATION, std::move(type)) {}
+  const Tonemapper& tonemapper() const { return tonemapper_; }
+
+protected:
+  void on_commit() override;
+
+private:
+  Tonemapper tonemapper_;
+};
 
 class FrameBufferObject : public Object {
 public:
@@ -23,6 +39,11 @@ public:
 
   const void* map(OSPFrameBufferChannel channel);
   void unmap(const void* mapped);
+
+protected:
+  /// Reads `imageOperation` (an OSPData of committed OSPImageOperation) and hands the
+  /// operations to the frame buffer, which redoes its colour output with them.
+  void on_commit() override;
 
 private:
   sciray::FrameBuffer frame_;

@@ -1,8 +1,14 @@
 #pragma once
 // The frame buffer: a colour channel in the format the application asks for (RGBA8,
-// SRGBA or RGBA32F), depth as Euclidean distance and as projected view depth, and an
-// accumulation channel that averages successive frames. Rows are stored bottom-up, as
-// OSPRay maps them (row 0 is the bottom of the image).
+// SRGBA or RGBA32F), depth as Euclidean distance and as projected view depth, world-space
+// normal and albedo, the ids of what each pixel shows, and an accumulation channel that
+// averages successive frames. Rows are stored bottom-up, as OSPRay maps them (row 0 is
+// the bottom of the image).
+//
+// Accumulation counts frames per tile of tile_size^2 pixels, so that adaptive rendering
+// can stop sampling tiles whose estimated error is small enough while the others go on;
+// every average is taken over its own tile's frames.
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -11,21 +17,34 @@
 #include <vector>
 
 #include "sciray/error.hpp"
+#include "sciray/frame/image_ops.hpp"
 #include "sciray/math/color.hpp"
 #include "sciray/math/vec.hpp"
+#include "sciray/render/sample.hpp"
 #include "sciray/simd/packet.hpp"
 
 namespace sciray {
 
 enum class ColorFormat { none, rgba8, srgba, rgba32f };
 
-/// Channel flags beyond colour.
+/// Channel flags beyond colour, with OSPRay's OSPFrameBufferChannel bits.
 enum Channel : unsigned {
   channel_color = 1u << 0,
   channel_depth = 1u << 1,  ///< Euclidean distance from the camera and projected depth
   channel_accum = 1u << 2,  ///< average successive frames
   channel_variance = 1u << 3,  ///< estimate the error of the average (needs accum)
+  channel_normal = 1u << 4,  ///< world-space shading normal of the first hit (averaged like colour)
+  channel_albedo = 1u << 5,  ///< albedo of the first hit (averaged like colour)
+  channel_id_primitive = 1u << 6,  ///< primitive id of the first hit, latest frame
+  channel_id_object = 1u << 7,     ///< geometry id of the first hit, latest frame
+  channel_id_instance = 1u << 8,   ///< instance id of the first hit, latest frame
 };
+
+/// Pixels of one tile side: the unit of parallel rendering and of adaptive accumulation.
+inline constexpr int tile_size = 16;
+
+/// What an id channel holds where nothing was hit.
+inline constexpr std::uint32_t no_id = 0xFFFFFFFFu;
 
 namespace detail {
 /// sRGB encoding through a table indexed by the linear value quantized to 16 bits:
@@ -51,9 +70,13 @@ public:
       throw Error("framebuffer: size " + std::to_string(width) + "x" + std::to_string(height) +
                   " must be positive with fewer than 2^31 pixels");
     if (format == ColorFormat::none) channels_ &= ~unsigned(channel_color);
-    const std::size_t n = pixel_count();
-    if (channels_ & channel_accum) accum_.assign(4 * n, 0.f);
     if (!(channels_ & channel_accum)) channels_ &= ~unsigned(channel_variance);
+    const std::size_t n = pixel_count();
+    tiles_x_ = (width + tile_size - 1) / tile_size;
+    const auto tiles = static_cast<std::size_t>(tiles_x_) * static_cast<std::size_t>((height + tile_size - 1) / tile_size);
+    tile_frames_.assign(tiles, 0);
+    tile_error_.assign(tiles, std::numeric_limits<float>::infinity());
+    if (channels_ & channel_accum) accum_.assign(4 * n, 0.f);
     if (channels_ & channel_variance) odd_luminance_.assign(n, 0.f);
     if (format == ColorFormat::rgba8 || format == ColorFormat::srgba) color8_.assign(4 * n, 0);
     if (format == ColorFormat::rgba32f) color32_.assign(4 * n, 0.f);
@@ -61,6 +84,11 @@ public:
       depth_.assign(n, std::numeric_limits<float>::infinity());
       depth_projected_.assign(n, std::numeric_limits<float>::infinity());
     }
+    if (channels_ & channel_normal) normal_.assign(3 * n, 0.f);
+    if (channels_ & channel_albedo) albedo_.assign(3 * n, 0.f);
+    if (channels_ & channel_id_primitive) primitive_id_.assign(n, no_id);
+    if (channels_ & channel_id_object) object_id_.assign(n, no_id);
+    if (channels_ & channel_id_instance) instance_id_.assign(n, no_id);
     if (format == ColorFormat::srgba) detail::srgb_table();
   }
 
@@ -70,50 +98,215 @@ public:
   ColorFormat format() const { return format_; }
   bool has(Channel c) const { return (channels_ & c) != 0; }
 
-  /// Frames averaged into the colour so far (the next frame's index).
-  std::uint32_t accumulated_frames() const { return frames_; }
-  void reset_accumulation() { frames_ = 0; }
+  // ---- tiles ------------------------------------------------------------------------
+  int tiles_x() const { return tiles_x_; }
+  int tile_count() const { return static_cast<int>(tile_frames_.size()); }
+  int tile_of(std::int32_t pixel) const { return (pixel / width_ / tile_size) * tiles_x_ + (pixel % width_) / tile_size; }
+  /// Frames averaged into the tile so far (the index of its next frame); stays 0
+  /// without accumulation.
+  std::uint32_t tile_frames(int tile) const { return tile_frames_[static_cast<std::size_t>(tile)]; }
+  /// The tile's share of variance(): its pixels' mean estimated error; infinite before
+  /// two frames or without a variance channel.
+  float tile_error(int tile) const { return tile_error_[static_cast<std::size_t>(tile)]; }
+  /// Whether adaptive rendering may skip the tile: its estimated error is at most
+  /// `threshold` (> 0; 0 turns adaptivity off).
+  bool tile_converged(int tile, float threshold) const { return threshold > 0.f && tile_error(tile) <= threshold; }
 
-  /// Called by the renderer after every pixel of a frame is written.
+  /// Frames rendered since the last reset (the most any tile has).
+  std::uint32_t accumulated_frames() const { return frames_; }
+  void reset_accumulation() {
+    frames_ = 0;
+    std::fill(tile_frames_.begin(), tile_frames_.end(), 0u);
+    std::fill(tile_error_.begin(), tile_error_.end(), std::numeric_limits<float>::infinity());
+  }
+
+  /// Called once every packet of a tile's frame is written: counts the frame for the
+  /// tile and updates its error estimate. Tiles are independent, so threads may finish
+  /// different tiles at once.
+  void finish_tile(int tile) {
+    if (!has(channel_accum)) return;
+    const std::uint32_t frames = ++tile_frames_[static_cast<std::size_t>(tile)];
+    if (has(channel_variance) && frames >= 2) tile_error_[static_cast<std::size_t>(tile)] = estimate_tile_error(tile, frames);
+  }
+  /// Called once the frame is done (after finish_tile of every tile it rendered).
   void finish_frame() { frames_ = has(channel_accum) ? frames_ + 1 : 1; }
 
-  /// Stores a packet of samples of the frame being rendered (frame index
-  /// accumulated_frames()); lane i goes to pixel `pixel[i]`, or nowhere if it is
-  /// negative. Each pixel is written by one thread per frame, so no synchronisation is
-  /// needed and results do not depend on the thread count.
+  /// Stores a packet of the renderer's samples (averaged over the frame's samples per
+  /// pixel) of the frame being rendered; lane i goes to pixel `pixel[i]`, or nowhere if
+  /// it is negative. Depth is `sample.t`, the projected depth comes from the camera.
+  /// Each pixel is written by one thread per frame, so no synchronisation is needed and
+  /// results do not depend on the thread count.
   template <class Arch>
-  void write_packet(const std::int32_t* pixel, const Vec3<simd::Float<Arch>>& color, const simd::Float<Arch>& alpha,
-                    const simd::Float<Arch>& depth, const simd::Float<Arch>& depth_projected) {
-    using F = simd::Float<Arch>;
+  void write_packet(const std::int32_t* pixel, const PixelSample<Arch>& sample, const simd::Float<Arch>& depth_projected) {
     constexpr int W = simd::width<Arch>;
     alignas(64) float rgba[4][W];
-    simd::store<Arch>(rgba[0], color.x);
-    simd::store<Arch>(rgba[1], color.y);
-    simd::store<Arch>(rgba[2], color.z);
-    simd::store<Arch>(rgba[3], alpha);
+    simd::store<Arch>(rgba[0], sample.color.x);
+    simd::store<Arch>(rgba[1], sample.color.y);
+    simd::store<Arch>(rgba[2], sample.color.z);
+    simd::store<Arch>(rgba[3], sample.alpha);
     if (has(channel_depth)) {
       alignas(64) float t[W], tz[W];
-      simd::store<Arch>(t, depth);
+      simd::store<Arch>(t, sample.t);
       simd::store<Arch>(tz, depth_projected);
       for (int i = 0; i < W; ++i)
         if (pixel[i] >= 0) depth_[pixel[i]] = t[i], depth_projected_[pixel[i]] = tz[i];
     }
+    store_ids<Arch>(pixel, primitive_id_, sample.prim_id);
+    store_ids<Arch>(pixel, object_id_, sample.geom_id);
+    store_ids<Arch>(pixel, instance_id_, sample.inst_id);
+    // Frames of each lane's tile before this one (a stamp lies in one tile, but lanes
+    // are looked up one by one so that any packet works).
+    alignas(64) std::uint32_t before[W];
+    for (int i = 0; i < W; ++i) before[i] = pixel[i] >= 0 ? tile_frames(tile_of(pixel[i])) : 0;
+    average_into<Arch>(pixel, before, normal_, sample.normal);
+    average_into<Arch>(pixel, before, albedo_, sample.albedo);
     if (has(channel_accum)) {
-      const float inv = 1.f / static_cast<float>(frames_ + 1);
-      const bool odd_frame = frames_ % 2 == 1;
       for (int i = 0; i < W; ++i) {
         if (pixel[i] < 0) continue;
+        const auto p = static_cast<std::size_t>(pixel[i]);
         if (!odd_luminance_.empty()) {
-          float& odd = odd_luminance_[static_cast<std::size_t>(pixel[i])];
-          if (frames_ == 0) odd = 0.f;
-          if (odd_frame) odd += luminance(rgba[0][i], rgba[1][i], rgba[2][i]);
+          float& odd = odd_luminance_[p];
+          if (before[i] == 0) odd = 0.f;
+          if (before[i] % 2 == 1) odd += luminance(rgba[0][i], rgba[1][i], rgba[2][i]);
         }
-        float* acc = &accum_[4 * static_cast<std::size_t>(pixel[i])];
+        float* acc = &accum_[4 * p];
+        const float inv = 1.f / static_cast<float>(before[i] + 1);
         for (int c = 0; c < 4; ++c) {
-          acc[c] = frames_ == 0 ? rgba[c][i] : acc[c] + rgba[c][i];
+          acc[c] = before[i] == 0 ? rgba[c][i] : acc[c] + rgba[c][i];
           rgba[c][i] = acc[c] * inv;
         }
       }
+    }
+    output_color<Arch>(pixel, rgba);
+  }
+
+  /// The image operations applied, in order, to the colour output (not to the
+  /// accumulation). Outputs already written are redone from the accumulation where
+  /// there is one; otherwise the next frame shows the change.
+  void set_image_operations(std::vector<Tonemapper> operations) {
+    image_operations_ = std::move(operations);
+    if (!has(channel_accum) || frames_ == 0) return;
+    for (std::size_t p = 0; p < pixel_count(); ++p) {
+      const auto pixel = static_cast<std::int32_t>(p);
+      const std::uint32_t frames = tile_frames(tile_of(pixel));
+      if (frames == 0) continue;
+      float rgba[4][1];
+      for (int c = 0; c < 4; ++c) rgba[c][0] = accum_[4 * p + c] / static_cast<float>(frames);
+      output_color<simd::scalar>(&pixel, rgba);
+    }
+  }
+  const std::vector<Tonemapper>& image_operations() const { return image_operations_; }
+
+  /// An estimate of the error left in the accumulated colour: the mean over pixels of
+  /// the expected absolute luminance error of their average (tiles weighted by their
+  /// pixels). Per pixel it compares the means of the even and the odd frames, which for
+  /// independent frames differ by sqrt(frames^2 / (even * odd)) times the error of the
+  /// whole average: the estimate is unbiased for all frame counts. Infinite while any
+  /// tile has fewer than two frames, or without a variance channel (as OSPRay reports).
+  float variance() const {
+    if (odd_luminance_.empty() || frames_ < 2) return std::numeric_limits<float>::infinity();
+    double sum = 0.0;
+    for (int tile = 0; tile < tile_count(); ++tile) {
+      if (!std::isfinite(tile_error(tile))) return std::numeric_limits<float>::infinity();
+      sum += static_cast<double>(tile_error(tile)) * static_cast<double>(tile_pixels(tile));
+    }
+    return static_cast<float>(sum / static_cast<double>(pixel_count()));
+  }
+
+  /// RGBA8 or SRGBA bytes, bottom row first. Empty for other formats.
+  const std::vector<std::uint8_t>& color8() const { return color8_; }
+  /// RGBA32F values, bottom row first. Empty for other formats.
+  const std::vector<float>& color32f() const { return color32_; }
+  /// Euclidean distance from the camera to the hit (inf where nothing was hit).
+  const std::vector<float>& depth() const { return depth_; }
+  /// Distance along the camera's view direction (as a z-buffer holds).
+  const std::vector<float>& depth_projected() const { return depth_projected_; }
+  /// Sum of the frames' RGBA (divide by the pixel's tile_frames).
+  const std::vector<float>& accum() const { return accum_; }
+  /// Average world-space normal, xyz per pixel (zero where nothing was hit).
+  const std::vector<float>& normal() const { return normal_; }
+  /// Average albedo, rgb per pixel.
+  const std::vector<float>& albedo() const { return albedo_; }
+  /// Ids of the first hit in the latest frame (no_id where nothing was hit).
+  const std::vector<std::uint32_t>& primitive_id() const { return primitive_id_; }
+  const std::vector<std::uint32_t>& object_id() const { return object_id_; }
+  const std::vector<std::uint32_t>& instance_id() const { return instance_id_; }
+
+  /// Bytes of all channels.
+  std::size_t memory_bytes() const {
+    return color8_.size() +
+           sizeof(float) * (color32_.size() + depth_.size() + depth_projected_.size() + accum_.size() +
+                            odd_luminance_.size() + normal_.size() + albedo_.size()) +
+           sizeof(std::uint32_t) * (primitive_id_.size() + object_id_.size() + instance_id_.size());
+  }
+
+private:
+  static float luminance(float r, float g, float b) { return 0.2126f * r + 0.7152f * g + 0.0722f * b; }
+
+  std::size_t tile_pixels(int tile) const {
+    const int x0 = (tile % tiles_x_) * tile_size, y0 = (tile / tiles_x_) * tile_size;
+    return static_cast<std::size_t>(std::min(tile_size, width_ - x0)) *
+           static_cast<std::size_t>(std::min(tile_size, height_ - y0));
+  }
+
+  /// Mean over the tile's pixels of |even mean - odd mean| * sqrt(even * odd) / frames.
+  float estimate_tile_error(int tile, std::uint32_t frames) const {
+    const double odd_frames = frames / 2, even_frames = frames - odd_frames;
+    const double scale = std::sqrt(even_frames * odd_frames) / frames;
+    const int x0 = (tile % tiles_x_) * tile_size, y0 = (tile / tiles_x_) * tile_size;
+    double sum = 0.0;
+    for (int y = y0; y < std::min(y0 + tile_size, height_); ++y)
+      for (int x = x0; x < std::min(x0 + tile_size, width_); ++x) {
+        const std::size_t p = static_cast<std::size_t>(y) * static_cast<std::size_t>(width_) + static_cast<std::size_t>(x);
+        const float* acc = &accum_[4 * p];
+        const double odd = odd_luminance_[p];
+        const double all = luminance(acc[0], acc[1], acc[2]);
+        sum += std::abs((all - odd) / even_frames - odd / odd_frames);
+      }
+    return static_cast<float>(scale * sum / static_cast<double>(tile_pixels(tile)));
+  }
+
+  template <class Arch>
+  static void store_ids(const std::int32_t* pixel, std::vector<std::uint32_t>& channel, const simd::Int<Arch>& ids) {
+    if (channel.empty()) return;
+    alignas(64) std::int32_t values[simd::width<Arch>];
+    simd::store<Arch>(values, ids);
+    for (int i = 0; i < simd::width<Arch>; ++i)
+      if (pixel[i] >= 0) channel[static_cast<std::size_t>(pixel[i])] = static_cast<std::uint32_t>(values[i]);
+  }
+
+  /// Running mean of a 3-vector channel over the tile's frames (the latest value without
+  /// accumulation).
+  template <class Arch>
+  static void average_into(const std::int32_t* pixel, const std::uint32_t* before, std::vector<float>& channel,
+                           const Vec3<simd::Float<Arch>>& value) {
+    if (channel.empty()) return;
+    constexpr int W = simd::width<Arch>;
+    alignas(64) float v[3][W];
+    simd::store<Arch>(v[0], value.x);
+    simd::store<Arch>(v[1], value.y);
+    simd::store<Arch>(v[2], value.z);
+    for (int i = 0; i < W; ++i) {
+      if (pixel[i] < 0) continue;
+      float* out = &channel[3 * static_cast<std::size_t>(pixel[i])];
+      const float weight = 1.f / static_cast<float>(before[i] + 1);
+      for (int c = 0; c < 3; ++c) out[c] = before[i] == 0 ? v[c][i] : out[c] + (v[c][i] - out[c]) * weight;
+    }
+  }
+
+  /// Writes averaged linear RGBA to the colour channel: image operations, then the
+  /// output format.
+  template <class Arch>
+  void output_color(const std::int32_t* pixel, float (&rgba)[4][simd::width<Arch>]) {
+    using F = simd::Float<Arch>;
+    constexpr int W = simd::width<Arch>;
+    if (format_ == ColorFormat::none) return;
+    if (!image_operations_.empty()) {
+      Vec3<F> rgb{simd::load<Arch>(rgba[0]), simd::load<Arch>(rgba[1]), simd::load<Arch>(rgba[2])};
+      for (const Tonemapper& op : image_operations_) rgb = op(rgb);
+      simd::store<Arch>(rgba[0], rgb.x);
+      simd::store<Arch>(rgba[1], rgb.y);
+      simd::store<Arch>(rgba[2], rgb.z);
     }
     if (format_ == ColorFormat::rgba32f) {
       for (int i = 0; i < W; ++i)
@@ -121,7 +314,6 @@ public:
           for (int c = 0; c < 4; ++c) color32_[4 * static_cast<std::size_t>(pixel[i]) + c] = rgba[c][i];
       return;
     }
-    if (format_ == ColorFormat::none) return;
     // 8-bit formats: quantize all lanes at once, then look up / store per pixel. Alpha
     // stays linear; colour is sRGB-encoded through a table for SRGBA.
     const bool srgb = format_ == ColorFormat::srgba;
@@ -142,45 +334,14 @@ public:
     }
   }
 
-  /// An estimate of the error left in the accumulated colour: the mean absolute luminance
-  /// difference between the average of all frames and the average of the odd frames,
-  /// which for independent frames shrinks as 1/sqrt(frames). Infinite before two frames
-  /// or without a variance channel (as OSPRay reports).
-  float variance() const {
-    if (odd_luminance_.empty() || frames_ < 2) return std::numeric_limits<float>::infinity();
-    const float odd_frames = static_cast<float>(frames_ / 2);
-    double sum = 0.0;
-    for (std::size_t p = 0; p < odd_luminance_.size(); ++p) {
-      const float* acc = &accum_[4 * p];
-      const float mean = luminance(acc[0], acc[1], acc[2]) / static_cast<float>(frames_);
-      sum += std::abs(mean - odd_luminance_[p] / odd_frames);
-    }
-    return static_cast<float>(sum / static_cast<double>(odd_luminance_.size()));
-  }
-
-  /// RGBA8 or SRGBA bytes, bottom row first. Empty for other formats.
-  const std::vector<std::uint8_t>& color8() const { return color8_; }
-  /// RGBA32F values, bottom row first. Empty for other formats.
-  const std::vector<float>& color32f() const { return color32_; }
-  /// Euclidean distance from the camera to the hit (inf where nothing was hit).
-  const std::vector<float>& depth() const { return depth_; }
-  /// Distance along the camera's view direction (as a z-buffer holds).
-  const std::vector<float>& depth_projected() const { return depth_projected_; }
-  /// Sum of the frames' RGBA (divide by accumulated_frames()).
-  const std::vector<float>& accum() const { return accum_; }
-
-  /// Bytes of all channels.
-  std::size_t memory_bytes() const {
-    return color8_.size() + sizeof(float) * (color32_.size() + depth_.size() + depth_projected_.size() +
-                                             accum_.size() + odd_luminance_.size());
-  }
-
-private:
   int width_, height_;
   ColorFormat format_;
   unsigned channels_;
+  int tiles_x_;
   std::uint32_t frames_ = 0;
-  static float luminance(float r, float g, float b) { return 0.2126f * r + 0.7152f * g + 0.0722f * b; }
+  std::vector<std::uint32_t> tile_frames_;
+  std::vector<float> tile_error_;
+  std::vector<Tonemapper> image_operations_;
 
   std::vector<float> accum_;
   std::vector<float> odd_luminance_;  // sum over odd frames, for the variance estimate
@@ -188,6 +349,9 @@ private:
   std::vector<float> color32_;
   std::vector<float> depth_;
   std::vector<float> depth_projected_;
+  std::vector<float> normal_;
+  std::vector<float> albedo_;
+  std::vector<std::uint32_t> primitive_id_, object_id_, instance_id_;
 };
 
 }  // namespace sciray

@@ -1,26 +1,46 @@
 #pragma once
 // One frame: the image is cut into tiles that oneTBB renders in parallel; inside a
 // tile the camera generates one packet per stamp of W pixels (4x1, 4x2, 4x4 for
-// W = 4, 8, 16), the renderer traces and shades it, and the frame buffer accumulates
-// it. Every pixel's sample position depends only on the pixel and the frame index, so
-// the image is the same for any number of threads.
+// W = 4, 8, 16) and sample, the renderer traces and shades it, and the frame buffer
+// accumulates the frame's average. Every sample's position on the film and the lens
+// depends only on its pixel and sample index, so the image is the same for any number
+// of threads.
 #include <algorithm>
 #include <atomic>
+#include <cmath>
 #include <concepts>
 #include <cstdint>
+#include <string>
 #include <variant>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include "sciray/frame/framebuffer.hpp"
+#include "sciray/frame/pixel_filter.hpp"
 #include "sciray/math/sequence.hpp"
 #include "sciray/render/camera.hpp"
 #include "sciray/render/sample.hpp"
 
 namespace sciray {
 
-inline constexpr int tile_size = 16;
+/// How a frame samples its pixels (OSPRay's renderer parameters of the same names).
+struct FrameSettings {
+  int pixel_samples = 1;  ///< pixelSamples: samples per pixel per frame, averaged in the frame
+  PixelFilter pixel_filter = PixelFilter::gauss;  ///< pixelFilter
+  /// varianceThreshold: with a variance channel, tiles whose estimated error is at most
+  /// this are not rendered again (0: every tile, every frame).
+  float variance_threshold = 0.f;
+};
+
+inline void validate(const FrameSettings& s) {
+  if (s.pixel_samples < 1)
+    throw Error("frame settings: 'pixelSamples' must be at least 1, got " + std::to_string(s.pixel_samples));
+  pixel_filter_from_int(static_cast<int>(s.pixel_filter));  // throws for a value outside the enum
+  if (!(s.variance_threshold >= 0.f) || !std::isfinite(s.variance_threshold))
+    throw Error("frame settings: 'varianceThreshold' must be finite and not negative, got " +
+                std::to_string(s.variance_threshold));
+}
 
 /// Lets another thread follow and stop a frame: `tiles_done` counts finished tiles of
 /// `tile_count`; setting `cancel` makes the remaining tiles return at once. A cancelled
@@ -51,52 +71,93 @@ concept PacketRenderer = requires(const R& renderer, const Ray<simd::Float<Arch>
   { renderer.render(ray, active, index) } -> std::same_as<PixelSample<Arch>>;
 };
 
-/// Renders one frame of `renderer` into `fb`, accumulating if the frame buffer does.
+/// Renders one frame of `renderer` into `fb`, accumulating if the frame buffer does:
+/// `settings.pixel_samples` samples per pixel (sample index frame * pixel_samples + s,
+/// the frame counted per tile), each at an offset drawn from the pixel filter with the
+/// pixel's camera_sample, which also gives the lens position. Colour, alpha, normal and
+/// albedo are averaged over the frame's samples; depth and ids come from the nearest
+/// hit among them. Tiles the frame buffer reports converged below
+/// `settings.variance_threshold` are skipped. Returns the number of tiles rendered.
 /// Run it inside a tbb::task_arena to bound the threads.
 template <class Arch, class Renderer, class PreparedCamera>
   requires PacketRenderer<Renderer, Arch>
-void render_frame(const Renderer& renderer, const PreparedCamera& camera, FrameBuffer& fb,
-                  FrameControl* control = nullptr) {
+std::uint32_t render_frame(const Renderer& renderer, const PreparedCamera& camera, FrameBuffer& fb,
+                           FrameControl* control = nullptr, const FrameSettings& settings = {}) {
   using F = simd::Float<Arch>;
   using M = simd::Mask<Arch>;
   using S = Stamp<Arch>;
+  constexpr int W = simd::width<Arch>;
   static_assert(tile_size % S::width == 0 && tile_size % S::height == 0);
+  validate(settings);
 
   const int width = fb.width(), height = fb.height();
-  const int tiles_x = (width + tile_size - 1) / tile_size;
-  const int tiles_y = (height + tile_size - 1) / tile_size;
-  if (control) control->tiles_done = 0, control->tile_count = static_cast<std::uint32_t>(tiles_x * tiles_y);
-  const PixelOffset offset = pixel_offset(fb.accumulated_frames());
+  const int tile_count = fb.tile_count();
+  if (control) control->tiles_done = 0, control->tile_count = static_cast<std::uint32_t>(tile_count);
   const float inv_width = 1.f / static_cast<float>(width), inv_height = 1.f / static_cast<float>(height);
+  const auto samples = static_cast<std::uint32_t>(settings.pixel_samples);
+  const F inv_samples(1.f / static_cast<float>(samples));
+  const FilterSampler& filter = FilterSampler::of(settings.pixel_filter);
+  std::atomic<std::uint32_t> tiles_rendered{0};
 
-  // Lane i of a stamp covers pixel (i % stamp width, i / stamp width).
-  const F lane = simd::lane_index<Arch>();
-  F lane_dy;
-  if constexpr (S::width == 1)
-    lane_dy = F(0.f);
-  else
-    lane_dy = xsimd::floor(lane * F(1.f / S::width));
-  const F lane_dx = lane - lane_dy * F(static_cast<float>(S::width));
-
-  tbb::parallel_for(tbb::blocked_range<int>(0, tiles_x * tiles_y), [&](const tbb::blocked_range<int>& range) {
-    alignas(64) std::int32_t pixel[simd::width<Arch>];
+  tbb::parallel_for(tbb::blocked_range<int>(0, tile_count), [&](const tbb::blocked_range<int>& range) {
+    alignas(64) std::int32_t pixel[W];
+    alignas(64) float inside[W], screen_x[W], screen_y[W], lens_u[W], lens_v[W];
     for (int tile = range.begin(); tile != range.end(); ++tile) {
       if (control && control->cancel.load(std::memory_order_relaxed)) return;
-      const int tile_x0 = (tile % tiles_x) * tile_size, tile_y0 = (tile / tiles_x) * tile_size;
-      for (int y0 = tile_y0; y0 < std::min(tile_y0 + tile_size, height); y0 += S::height) {
-        for (int x0 = tile_x0; x0 < std::min(tile_x0 + tile_size, width); x0 += S::width) {
-          const F px = F(static_cast<float>(x0)) + lane_dx;
-          const F py = F(static_cast<float>(y0)) + lane_dy;
-          const M active = (px < F(static_cast<float>(width))) & (py < F(static_cast<float>(height)));
-          for (int i = 0; i < simd::width<Arch>; ++i) {
-            const int x = x0 + i % S::width, y = y0 + i / S::width;
-            pixel[i] = x < width && y < height ? y * width + x : -1;
+      if (!fb.tile_converged(tile, settings.variance_threshold)) {
+        const std::uint32_t first_sample = fb.tile_frames(tile) * samples;
+        const int tile_x0 = (tile % fb.tiles_x()) * tile_size, tile_y0 = (tile / fb.tiles_x()) * tile_size;
+        for (int y0 = tile_y0; y0 < std::min(tile_y0 + tile_size, height); y0 += S::height) {
+          for (int x0 = tile_x0; x0 < std::min(tile_x0 + tile_size, width); x0 += S::width) {
+            // Lane i covers pixel (i % stamp width, i / stamp width) of the stamp.
+            for (int i = 0; i < W; ++i) {
+              const int x = x0 + i % S::width, y = y0 + i / S::width;
+              pixel[i] = x < width && y < height ? y * width + x : -1;
+              inside[i] = pixel[i] >= 0 ? 1.f : 0.f;
+            }
+            const M active = simd::load<Arch>(inside) > F(0.f);
+            PixelSample<Arch> frame;
+            F frame_projected;
+            for (std::uint32_t s = 0; s < samples; ++s) {
+              const std::uint32_t sample_index = first_sample + s;
+              for (int i = 0; i < W; ++i) {
+                const CameraSample cs = camera_sample(static_cast<std::uint32_t>(std::max(pixel[i], 0)), sample_index);
+                const FilterOffset offset = filter.sample(cs.film_x, cs.film_y);
+                screen_x[i] = (static_cast<float>(x0 + i % S::width) + 0.5f + offset.x) * inv_width;
+                screen_y[i] = (static_cast<float>(y0 + i / S::width) + 0.5f + offset.y) * inv_height;
+                lens_u[i] = cs.lens_u, lens_v[i] = cs.lens_v;
+              }
+              const auto ray = camera.generate(simd::load<Arch>(screen_x), simd::load<Arch>(screen_y),
+                                               simd::load<Arch>(lens_u), simd::load<Arch>(lens_v));
+              const PixelSample<Arch> one =
+                  renderer.render(ray, active, SampleIndex<Arch>{simd::load<Arch>(pixel), sample_index});
+              const F projected = camera.projected_depth(ray, one.t);
+              if (s == 0) {
+                frame = one, frame_projected = projected;
+                continue;
+              }
+              frame.color += one.color;
+              frame.alpha = frame.alpha + one.alpha;
+              frame.normal += one.normal;
+              frame.albedo += one.albedo;
+              const M nearer = one.t < frame.t;
+              frame.t = simd::select(nearer, one.t, frame.t);
+              frame_projected = simd::select(nearer, projected, frame_projected);
+              frame.prim_id = simd::select(nearer, one.prim_id, frame.prim_id);
+              frame.geom_id = simd::select(nearer, one.geom_id, frame.geom_id);
+              frame.inst_id = simd::select(nearer, one.inst_id, frame.inst_id);
+            }
+            if (samples > 1) {
+              frame.color = frame.color * inv_samples;
+              frame.alpha = frame.alpha * inv_samples;
+              frame.normal = frame.normal * inv_samples;
+              frame.albedo = frame.albedo * inv_samples;
+            }
+            fb.write_packet<Arch>(pixel, frame, frame_projected);
           }
-          const auto ray = camera.generate((px + F(offset.x)) * F(inv_width), (py + F(offset.y)) * F(inv_height));
-          const PixelSample<Arch> sample =
-              renderer.render(ray, active, SampleIndex<Arch>{simd::load<Arch>(pixel), fb.accumulated_frames()});
-          fb.write_packet<Arch>(pixel, sample.color, sample.alpha, sample.t, camera.projected_depth(ray, sample.t));
         }
+        fb.finish_tile(tile);
+        tiles_rendered.fetch_add(1, std::memory_order_relaxed);
       }
       if (control) control->tiles_done.fetch_add(1, std::memory_order_relaxed);
     }
@@ -105,12 +166,46 @@ void render_frame(const Renderer& renderer, const PreparedCamera& camera, FrameB
     fb.reset_accumulation();
   else
     fb.finish_frame();
+  return tiles_rendered.load();
 }
 
 /// render_frame for a Camera variant: the camera type is resolved once per frame.
 template <class Arch, class Renderer>
-void render_frame(const Renderer& renderer, const Camera& camera, FrameBuffer& fb, FrameControl* control = nullptr) {
-  std::visit([&](const auto& c) { render_frame<Arch>(renderer, prepare(c), fb, control); }, camera);
+std::uint32_t render_frame(const Renderer& renderer, const Camera& camera, FrameBuffer& fb,
+                           FrameControl* control = nullptr, const FrameSettings& settings = {}) {
+  return std::visit([&](const auto& c) { return render_frame<Arch>(renderer, prepare(c), fb, control, settings); },
+                    camera);
+}
+
+/// What render_until achieved: frames rendered by the call and the frame buffer's
+/// estimated error (FrameBuffer::variance) after them.
+struct RenderUntilResult {
+  std::uint32_t frames;
+  float estimated_error;
+};
+
+/// Renders frames into `fb` until its estimated error is at most `target_error`, or
+/// `max_frames` frames were rendered, or every tile is converged below
+/// `settings.variance_threshold` (nothing is left to render), or `control` cancels.
+/// The frame buffer needs a variance channel. Set `settings.variance_threshold` (to
+/// `target_error`, say) to spend the frames on the tiles that still need them.
+template <class Arch, class Renderer, class CameraT>
+RenderUntilResult render_until(const Renderer& renderer, const CameraT& camera, FrameBuffer& fb, float target_error,
+                               std::uint32_t max_frames, const FrameSettings& settings = {},
+                               FrameControl* control = nullptr) {
+  if (!fb.has(channel_variance))
+    throw Error("render_until: the frame buffer has no variance channel (it needs accum and variance) to estimate "
+                "its error");
+  if (!(target_error >= 0.f)) throw Error("render_until: the target error must not be negative or NaN");
+  RenderUntilResult result{0, fb.variance()};
+  while (result.frames < max_frames && !(result.estimated_error <= target_error)) {
+    const std::uint32_t tiles = render_frame<Arch>(renderer, camera, fb, control, settings);
+    if (control && control->cancel.load()) break;
+    ++result.frames;
+    result.estimated_error = fb.variance();
+    if (tiles == 0) break;
+  }
+  return result;
 }
 
 }  // namespace sciray
