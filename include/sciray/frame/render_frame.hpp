@@ -71,6 +71,15 @@ concept PacketRenderer = requires(const R& renderer, const Ray<simd::Float<Arch>
   { renderer.render(ray, active, index) } -> std::same_as<PixelSample<Arch>>;
 };
 
+/// What render_frame needs of a camera: prepare()'s result, generating packets of rays
+/// from screen points and lens samples. (Camera descriptions go through the Camera
+/// overload, which prepares them.)
+template <class C, class Arch>
+concept PreparedCamera = requires(const C& camera, const simd::Float<Arch>& s, const Ray<simd::Float<Arch>>& ray) {
+  { camera.generate(s, s, s, s) } -> std::same_as<Ray<simd::Float<Arch>>>;
+  { camera.projected_depth(ray, s) } -> std::same_as<simd::Float<Arch>>;
+};
+
 /// Renders one frame of `renderer` into `fb`, accumulating if the frame buffer does:
 /// `settings.pixel_samples` samples per pixel (sample index frame * pixel_samples + s,
 /// the frame counted per tile), each at an offset drawn from the pixel filter with the
@@ -79,9 +88,9 @@ concept PacketRenderer = requires(const R& renderer, const Ray<simd::Float<Arch>
 /// hit among them. Tiles the frame buffer reports converged below
 /// `settings.variance_threshold` are skipped. Returns the number of tiles rendered.
 /// Run it inside a tbb::task_arena to bound the threads.
-template <class Arch, class Renderer, class PreparedCamera>
-  requires PacketRenderer<Renderer, Arch>
-std::uint32_t render_frame(const Renderer& renderer, const PreparedCamera& camera, FrameBuffer& fb,
+template <class Arch, class Renderer, class CameraT>
+  requires PacketRenderer<Renderer, Arch> && PreparedCamera<CameraT, Arch>
+std::uint32_t render_frame(const Renderer& renderer, const CameraT& camera, FrameBuffer& fb,
                            FrameControl* control = nullptr, const FrameSettings& settings = {}) {
   using F = simd::Float<Arch>;
   using M = simd::Mask<Arch>;
@@ -117,7 +126,7 @@ std::uint32_t render_frame(const Renderer& renderer, const PreparedCamera& camer
             }
             const M active = simd::load<Arch>(inside) > F(0.f);
             PixelSample<Arch> frame;
-            F frame_projected;
+            F frame_projected(0.f);
             for (std::uint32_t s = 0; s < samples; ++s) {
               const std::uint32_t sample_index = first_sample + s;
               for (int i = 0; i < W; ++i) {
@@ -164,7 +173,7 @@ std::uint32_t render_frame(const Renderer& renderer, const PreparedCamera& camer
   });
   if (control && control->cancel.load())
     fb.reset_accumulation();
-  else
+  else if (tiles_rendered.load() > 0)  // a frame that found every tile converged adds nothing
     fb.finish_frame();
   return tiles_rendered.load();
 }
@@ -186,7 +195,8 @@ struct RenderUntilResult {
 
 /// Renders frames into `fb` until its estimated error is at most `target_error`, or
 /// `max_frames` frames were rendered, or every tile is converged below
-/// `settings.variance_threshold` (nothing is left to render), or `control` cancels.
+/// `settings.variance_threshold` (nothing is left to render), or `control` cancels (the
+/// cancelled frame is not counted).
 /// The frame buffer needs a variance channel. Set `settings.variance_threshold` (to
 /// `target_error`, say) to spend the frames on the tiles that still need them.
 template <class Arch, class Renderer, class CameraT>
@@ -200,10 +210,9 @@ RenderUntilResult render_until(const Renderer& renderer, const CameraT& camera, 
   RenderUntilResult result{0, fb.variance()};
   while (result.frames < max_frames && !(result.estimated_error <= target_error)) {
     const std::uint32_t tiles = render_frame<Arch>(renderer, camera, fb, control, settings);
-    if (control && control->cancel.load()) break;
+    if (tiles == 0 || (control && control->cancel.load())) break;
     ++result.frames;
     result.estimated_error = fb.variance();
-    if (tiles == 0) break;
   }
   return result;
 }
