@@ -23,6 +23,22 @@ void render_scivis(const EngineWorld& world, const SciVisParams& params, const C
 }
 
 template <class Arch>
+void render(const EngineWorld& world, const RendererConfig& config, const Camera& camera, FrameBuffer& fb,
+            FrameControl* control, const FrameSettings& settings) {
+  std::visit(
+      [&](const auto& params) {
+        using P = std::decay_t<decltype(params)>;
+        if constexpr (std::is_same_v<P, SciVisParams>)
+          render_frame<Arch>(SciVis<Arch, EngineWorld>(world, params), camera, fb, control, settings);
+        else if constexpr (std::is_same_v<P, AOParams>)
+          render_frame<Arch>(AmbientOcclusion<Arch, EngineWorld>(world, params), camera, fb, control, settings);
+        else
+          render_frame<Arch>(PathTracer<Arch, EngineWorld>(world, params), camera, fb, control, settings);
+      },
+      config);
+}
+
+template <class Arch>
 void trace(const EngineWorld& world, std::span<const Ray<float>> rays, std::span<TraceResult> results) {
   using F = simd::Float<Arch>;
   constexpr int W = simd::width<Arch>;
@@ -73,6 +89,7 @@ IsaKernels make_kernels(simd::Isa isa) {
   return {isa,
           &commit<Arch>,
           &render_scivis<Arch>,
+          &render<Arch>,
           &sample_volume<Arch, StructuredRegular<float>>,
           &sample_volume<Arch, StructuredRegular<float, BrickedLayout>>,
           &trace<Arch>};

@@ -9,6 +9,8 @@
 //                 [--tf tf.json] [--layout linear|bricked] [--density D] [--sampling-rate R] [--gradient-shading]
 //                 [--iso V]... [--slice a,b,c,d]... [--preintegration] [--adaptive-sampling]
 //                 [--no-empty-space-skipping]
+//                 [--renderer scivis|ao|pathtracer] [--spp N] [--shadows] [--ao-samples N] [--ao-distance D]
+//                 [--max-path-length N] [--material JSON]... [--light JSON]... [--background r,g,b,a]
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -29,6 +31,7 @@
 #include "sciray/io/ply.hpp"
 #include "sciray/shim/engine.hpp"
 #include "sciray/testing/scenes.hpp"
+#include "shading_json.hpp"
 #include "volume_scene.hpp"
 
 namespace {
@@ -77,6 +80,8 @@ std::pair<int, int> parse_size(const std::string& size) {
   return {w, h};
 }
 
+std::vector<float> parse_floats(const std::string& text, std::size_t count, const char* option);
+
 struct RenderOptions {
   std::string mesh;
   std::string camera;
@@ -98,7 +103,59 @@ struct RenderOptions {
   bool no_empty_space_skipping = false;
   bool preintegration = false;
   bool adaptive_sampling = false;
+  std::string renderer = "scivis";
+  int pixel_samples = 1;
+  bool shadows = false;
+  int ao_samples = -1;  ///< -1: the renderer's default
+  float ao_distance = 1e20f;
+  int max_path_length = 20;
+  std::vector<std::string> materials;  ///< JSON (or files), geometry k gets material k (the last one the rest)
+  std::vector<std::string> lights;     ///< JSON (or files); replace the default lights
+  std::string background;              ///< "r,g,b,a"
 };
+
+/// The renderer and its parameters from the options (lights: the scene's or default).
+sciray::shim::RendererConfig renderer_config(const RenderOptions& opt, std::vector<sciray::Light> scene_lights,
+                                             std::vector<sciray::Material> materials) {
+  std::vector<sciray::Light> lights;
+  for (std::size_t i = 0; i < opt.lights.size(); ++i)
+    lights.push_back(sciray_tool::light_from_json(sciray_tool::parse_json_argument(opt.lights[i], "--light"),
+                                                  "--light " + std::to_string(i + 1)));
+  const auto common = [&](auto params) {
+    if (!lights.empty()) params.lights = lights;
+    else if (!scene_lights.empty()) params.lights = scene_lights;
+    params.materials = materials;
+    params.background_color = {0.1f, 0.1f, 0.12f};
+    params.background_alpha = 1.f;
+    if (!opt.background.empty()) {
+      const auto c = parse_floats(opt.background, 4, "--background");
+      params.background_color = {c[0], c[1], c[2]};
+      params.background_alpha = c[3];
+    }
+    params.max_path_length = opt.max_path_length;
+    params.volume_sampling_rate = opt.sampling_rate;
+    params.volume_gradient_shading = opt.gradient_shading;
+    params.empty_space_skipping = !opt.no_empty_space_skipping;
+    params.volume_preintegration = opt.preintegration;
+    params.volume_adaptive_sampling = opt.adaptive_sampling;
+    return params;
+  };
+  if (opt.renderer == "scivis") {
+    auto p = common(sciray::SciVisParams{});
+    p.shadows = opt.shadows;
+    if (opt.ao_samples >= 0) p.ao_samples = opt.ao_samples;
+    p.ao_distance = opt.ao_distance;
+    return p;
+  }
+  if (opt.renderer == "ao") {
+    auto p = common(sciray::AOParams{});
+    if (opt.ao_samples >= 0) p.ao_samples = opt.ao_samples;
+    p.ao_distance = opt.ao_distance;
+    return p;
+  }
+  if (opt.renderer == "pathtracer") return common(sciray::PathTracerParams{});
+  throw sciray::Error("--renderer: expected scivis, ao or pathtracer, got '" + opt.renderer + "'");
+}
 
 /// `count` comma-separated numbers, as "--clip-plane 0,0,1,-0.5" gives them.
 std::vector<float> parse_floats(const std::string& text, std::size_t count, const char* option) {
@@ -178,22 +235,33 @@ int render(const RenderOptions& opt) {
     // The scene's geometry goes into the world, or into one group the world instances.
     auto group = std::make_shared<sciray::shim::EngineWorld::GroupType>(device);
     sciray::shim::EngineWorld::GroupType& target = scene.instances.empty() ? world : *group;
+    // --material k shades the k-th geometry added; the last one shades the rest.
+    std::vector<sciray::Material> materials;
+    for (std::size_t i = 0; i < opt.materials.size(); ++i)
+      materials.push_back(sciray_tool::material_from_json(
+          sciray_tool::parse_json_argument(opt.materials[i], "--material"), "--material " + std::to_string(i + 1)));
+    std::uint32_t geometries = 0;
+    const auto next_material = [&] {
+      const std::uint32_t k = geometries++;
+      return materials.empty() ? sciray::no_material : std::min<std::uint32_t>(k, materials.size() - 1);
+    };
     std::size_t triangles = 0, vertices = 0, spheres = 0, curve_segments = 0;
     if (scene.mesh) {
       sciray::TriangleMesh mesh(std::move(*scene.mesh));
       triangles = mesh.triangle_count(), vertices = mesh.vertex_count();
-      target.add(std::move(mesh));
+      target.add(std::move(mesh), next_material());
     }
     if (scene.spheres) {
       spheres = scene.spheres->count();
-      target.add(sciray::Spheres(std::move(*scene.spheres)).set_intersector(parse_intersector(opt.sphere_intersector)));
+      target.add(sciray::Spheres(std::move(*scene.spheres)).set_intersector(parse_intersector(opt.sphere_intersector)),
+                 next_material());
     }
     if (scene.curves) {
       curve_segments = scene.curves->indices.size();
-      target.add(sciray::Curves(std::move(*scene.curves)));
+      target.add(sciray::Curves(std::move(*scene.curves)), next_material());
     }
     const std::size_t boxes = scene.boxes.size();
-    if (boxes) target.add(sciray::Boxes(std::move(scene.boxes), std::move(scene.box_colors)));
+    if (boxes) target.add(sciray::Boxes(std::move(scene.boxes), std::move(scene.box_colors)), next_material());
     for (const auto& transform : scene.instances) world.add_instance(group, transform);
     if (!opt.clip_planes.empty() || !opt.clip_spheres.empty()) {
       auto clipping = std::make_shared<sciray::Clipping>();
@@ -216,26 +284,25 @@ int render(const RenderOptions& opt) {
     const sciray::Camera camera = !opt.camera.empty() ? read_camera(opt.camera, aspect)
                                   : scene.camera      ? *scene.camera
                                                       : sciray::frame_bounds(world.bounds(), aspect);
-    sciray::SciVisParams params;
-    params.background_color = {0.1f, 0.1f, 0.12f};
-    params.background_alpha = 1.f;
-    // A light from the upper left behind the viewer, as a desk lamp would be.
-    const auto& view = std::get<sciray::PerspectiveCamera>(camera);
-    const sciray::Vec3f forward = normalize(view.direction);
-    const sciray::Vec3f right = normalize(cross(forward, view.up));
-    const sciray::Vec3f up = cross(right, forward);
-    params.light_direction = normalize(forward + right * 0.5f - up * 0.7f);
-    params.volume_sampling_rate = opt.sampling_rate;
-    params.volume_gradient_shading = opt.gradient_shading;
-    params.empty_space_skipping = !opt.no_empty_space_skipping;
-    params.volume_preintegration = opt.preintegration;
-    params.volume_adaptive_sampling = opt.adaptive_sampling;
+    // Without lights of its own, a scene gets a light from the upper left behind the
+    // viewer, as a desk lamp would be, and some ambient light.
+    if (scene.lights.empty()) {
+      const auto& view = std::get<sciray::PerspectiveCamera>(camera);
+      const sciray::Vec3f forward = normalize(view.direction);
+      const sciray::Vec3f right = normalize(cross(forward, view.up));
+      const sciray::Vec3f up = cross(right, forward);
+      scene.lights = sciray::default_lights(normalize(forward + right * 0.5f - up * 0.7f));
+    }
+    const sciray::shim::RendererConfig config = renderer_config(opt, scene.lights, materials);
+    sciray::FrameSettings settings;
+    settings.pixel_samples = opt.pixel_samples;
+    sciray::validate(settings);
 
     sciray::FrameBuffer fb(width, height, float_output ? sciray::ColorFormat::rgba32f : sciray::ColorFormat::srgba);
     std::vector<double> frame_ms;
     for (int f = 0; f < opt.frames; ++f) {
       start = Clock::now();
-      kernels.render_scivis(world, params, camera, fb, nullptr);
+      kernels.render(world, config, camera, fb, nullptr, settings);
       frame_ms.push_back(ms_since(start));
     }
     sciray::io::write_color(fb, opt.output);
@@ -257,6 +324,8 @@ int render(const RenderOptions& opt) {
               {"curve_segments", curve_segments},
               {"boxes", boxes},
               {"instances", world.instance_count()},
+              {"renderer", opt.renderer},
+              {"pixel_samples", opt.pixel_samples},
               {"volumes", world.volume_count()},
               {"sphere_intersector", opt.sphere_intersector},
               {"load_ms", load_ms},
@@ -332,6 +401,19 @@ int main(int argc, char** argv) {
                        "volumes: take every sample (for measuring what skipping saves)");
   render_cmd->add_option("--clip-plane", opt.clip_planes, "a,b,c,d: clip where a*x+b*y+c*z+d < 0 (repeatable)");
   render_cmd->add_option("--clip-sphere", opt.clip_spheres, "x,y,z,r: clip inside the sphere (repeatable)");
+  render_cmd->add_option("--renderer", opt.renderer, "scivis, ao or pathtracer");
+  render_cmd->add_option("--spp", opt.pixel_samples, "samples per pixel per frame (pixelSamples)");
+  render_cmd->add_flag("--shadows", opt.shadows, "scivis: cast shadows");
+  render_cmd->add_option("--ao-samples", opt.ao_samples, "scivis, ao: ambient occlusion rays per sample (aoSamples)");
+  render_cmd->add_option("--ao-distance", opt.ao_distance, "scivis, ao: how far occluders count (aoDistance)");
+  render_cmd->add_option("--max-path-length", opt.max_path_length, "surfaces a path passes or bounces (maxPathLength)");
+  render_cmd->add_option("--material", opt.materials,
+                         "material JSON (or a file) with OSPRay's names, e.g. '{\"type\":\"principled\",\"roughness\":0.2}'; "
+                         "the k-th shades the k-th geometry, the last the rest (repeatable)");
+  render_cmd->add_option("--light", opt.lights,
+                         "light JSON (or a file) with OSPRay's names, e.g. '{\"type\":\"sphere\",\"position\":[0,2,0]}'; "
+                         "replaces the default lights (repeatable)");
+  render_cmd->add_option("--background", opt.background, "r,g,b,a background colour");
   render_cmd->add_option("--sphere-intersector", opt.sphere_intersector,
                          "sciray (own packet intersector) or embree (Embree's point geometry)");
 

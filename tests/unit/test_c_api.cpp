@@ -200,10 +200,9 @@ TEST_CASE("a scene built through the C API renders what the engine renders", "[c
   sciray::SciVisParams params;
   params.background_color = {0.1f, 0.1f, 0.12f};
   params.background_alpha = 1.f;
-  params.ambient_color = {0.3f, 0.3f, 0.3f};
-  params.ambient_intensity = 1.f;
-  params.light_direction = {0.5f, -0.7f, -0.6f};
-  params.light_intensity = 1.f;
+  params.lights = sciray::default_lights({0.5f, -0.7f, -0.6f});
+  std::get<sciray::AmbientLight>(params.lights[0]).intensity = 0.3f;
+  std::get<sciray::DistantLight>(params.lights[1]).intensity = 1.f;
   const auto b = world.bounds();
   sciray::PerspectiveCamera camera;
   camera.position = b.center() + sciray::Vec3f{0.f, 0.f, 0.35f};
@@ -486,14 +485,14 @@ TEST_CASE("the remaining entry points: strided vertices, typed setters, retain, 
   // Types later issues bring are refused by name, not crashed on.
   CHECK(ospNewVolume("unstructured") == nullptr);
   CHECK(ospNewTransferFunction("piecewise_linear") == nullptr);  // OSPRay 1's name
-  CHECK(ospNewTexture("texture2d") == nullptr);
-  CHECK(ospNewImageOperation("tonemapper") == nullptr);
-  CHECK(api.messages.any_error_containing("unknown texture type 'texture2d' (sciray supports: volume)"));
+  CHECK(ospNewTexture("checkerboard") == nullptr);
+  CHECK(ospNewImageOperation("denoiser") == nullptr);
+  CHECK(api.messages.any_error_containing("unknown texture type 'checkerboard' (sciray supports: volume, texture2d)"));
   CHECK(ospLoadModule("denoiser") == OSP_INVALID_ARGUMENT);
   CHECK(api.messages.any_error_containing("unknown volume type 'unstructured' (sciray supports: structuredRegular)"));
   CHECK(api.messages.any_error_containing(
       "unknown transfer function type 'piecewise_linear' (sciray supports: piecewiseLinear)"));
-  CHECK(api.messages.any_error_containing("unknown image operation type 'tonemapper'"));
+  CHECK(api.messages.any_error_containing("unknown image operation type 'denoiser'"));
   CHECK(api.messages.codes.back() == OSP_INVALID_ARGUMENT);
 }
 
@@ -2201,7 +2200,7 @@ TEST_CASE("volume: a constant density renders the analytic opacity 1 - exp(-sigm
   }
   ospDeviceSetParam(api.device, "isa", OSP_STRING, "auto");
   ospDeviceCommit(api.device);
-  // The ao and pathtracer renderers render as scivis and take the parameter too.
+  // The ao and pathtracer renderers integrate volumes on their rays too.
   for (const char* type : {"ao", "pathtracer"}) {
     OSPRenderer other = ospNewRenderer(type);
     ospSetFloat(other, "volumeSamplingRate", 2.f);
@@ -2850,7 +2849,7 @@ TEST_CASE("isosurface: bad input is named through the error callback", "[c_api][
   ospCommit(g);
   CHECK(api.messages.errors.empty());
 
-  // Colours: per-primitive ones and a material kd other than the default cannot show yet.
+  // Colours: per-primitive ones cannot show yet; a material's can.
   OSPGeometricModel m = ospNewGeometricModel(g);
   const float red[3] = {1.f, 0.f, 0.f};
   set_array(m, "color", red, OSP_VEC3F, 1);
@@ -2859,27 +2858,30 @@ TEST_CASE("isosurface: bad input is named through the error callback", "[c_api][
                "supported yet");
   ospRemoveParam(m, "color");
   OSPMaterial material = ospNewMaterial("obj");
-  ospCommit(material);  // the default kd is what isosurfaces show: fine
+  ospSetVec3f(material, "kd", 1.f, 0.f, 0.f);
+  ospCommit(material);
   ospSetObject(m, "material", material);
   ospCommit(m);
   CHECK(api.messages.errors.empty());
   OSPGroup group = new_group({m});
   OSPInstance instance = new_instance(group);
   OSPWorld world = new_world({instance});
-  ospSetVec3f(material, "kd", 1.f, 0.f, 0.f);
-  ospCommit(material);
-  ospCommit(m);
-  api.expect_error("ospCommit: geometric model: colours of isosurface geometry are not supported yet: its material's "
-               "'kd' (1, 0, 0) cannot be shown");
-  // Recommitting the material alone reaches the world, which refuses it by name.
-  OSPCamera camera = ospNewCamera("perspective");
+  // The isosurface x + 2y + 3z = 2 of the ramp, seen along z, shows the material's red.
+  OSPCamera camera = ospNewCamera("orthographic");
+  ospSetVec3f(camera, "position", 0.5f, 0.5f, -5.f);
+  ospSetVec3f(camera, "direction", 0.f, 0.f, 1.f);
+  ospSetFloat(camera, "height", 0.5f);
   ospCommit(camera);
   OSPRenderer renderer = ospNewRenderer("scivis");
   ospCommit(renderer);
-  OSPFrameBuffer fb = ospNewFrameBuffer(4, 4);
-  CHECK(ospRenderFrame(fb, renderer, camera, world) == nullptr);
-  api.expect_error("ospRenderFrame: world: the group of instance 0, parameter 'geometry' element 0 (geometric model of "
-               "isosurface geometry): colours of isosurface geometry are not supported yet");
+  OSPFrameBuffer fb = ospNewFrameBuffer(4, 4, OSP_FB_RGBA32F, OSP_FB_COLOR);
+  ospRenderFrameBlocking(fb, renderer, camera, world);
+  const auto* rgba = static_cast<const float*>(ospMapFrameBuffer(fb, OSP_FB_COLOR));
+  CHECK(rgba[4 * 5 + 0] > 0.1f);
+  CHECK(rgba[4 * 5 + 1] == 0.f);
+  CHECK(rgba[4 * 5 + 2] == 0.f);
+  ospUnmapFrameBuffer(rgba, fb);
+  CHECK(api.messages.errors.empty());
 
   // Isosurfaces cannot clip.
   ospSetObjectAsData(group, "clippingGeometry", OSP_GEOMETRIC_MODEL, m);
@@ -3043,8 +3045,8 @@ TEST_CASE("slice: volume textures' bad input is named through the error callback
   ApiFixture api;
   SliceScene scene;
   CHECK(api.messages.errors.empty());
-  CHECK(ospNewTexture("texture2d") == nullptr);
-  api.expect_error("ospNewTexture: unknown texture type 'texture2d' (sciray supports: volume)");
+  CHECK(ospNewTexture("checkerboard") == nullptr);
+  api.expect_error("ospNewTexture: unknown texture type 'checkerboard' (sciray supports: volume, texture2d)");
 
   OSPTexture texture = ospNewTexture("volume");
   ospCommit(texture);

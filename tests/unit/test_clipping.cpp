@@ -86,7 +86,7 @@ TEST_CASE("a closed clipping mesh clips as the analytic box it encloses", "[clip
     kernels.commit(world);
     FrameBuffer fb(96, 96, ColorFormat::rgba32f);
     SciVisParams params;
-    params.light_direction = {0.5f, -0.7f, -0.6f};
+    params.lights = default_lights({0.5f, -0.7f, -0.6f});
     kernels.render_scivis(world, params, frame_bounds(Box3f{{0, 0, 0}, {1, 1, 1}}, 1.f), fb, nullptr);
     return io::color_image(fb);
   };

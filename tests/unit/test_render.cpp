@@ -42,7 +42,7 @@ struct BunnyScene {
     camera = frame_bounds(world.bounds(), 1.f, 30.f, {0.f, -0.2f, -1.f});
     params.background_color = {0.1f, 0.1f, 0.12f};
     params.background_alpha = 1.f;
-    params.light_direction = {0.5f, -0.7f, -0.6f};
+    params.lights = default_lights({0.5f, -0.7f, -0.6f});
   }
 };
 

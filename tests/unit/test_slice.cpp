@@ -56,9 +56,7 @@ std::vector<float> render(simd::Isa isa, shim::EngineWorld& world) {
   camera.direction = {0.f, 0.f, 1.f};
   camera.height = 1.f;
   SciVisParams params;
-  params.ambient_color = {1.f, 1.f, 1.f};
-  params.ambient_intensity = 1.f;
-  params.light_intensity = 0.f;
+  params.lights = {AmbientLight{}};
   shim::kernels(isa).commit(world);
   FrameBuffer fb(size, size, ColorFormat::rgba32f, channel_color);
   shim::kernels(isa).render_scivis(world, params, Camera(camera), fb, nullptr);

@@ -234,7 +234,7 @@ TEST_CASE("spheres and streamlines match their stored reference images", "[spher
     SciVisParams params;
     params.background_color = {0.1f, 0.1f, 0.12f};
     params.background_alpha = 1.f;
-    params.light_direction = {0.5f, -0.7f, -0.6f};
+    params.lights = default_lights({0.5f, -0.7f, -0.6f});
     FrameBuffer fb(160, 160, ColorFormat::srgba);
     kernels.render_scivis(world, params, frame_bounds(world.bounds(), 1.f), fb, nullptr);
     const std::string reference = std::string(SCIRAY_REFERENCE_DIR "/") + c.file;

@@ -236,7 +236,7 @@ TEST_CASE("a surface inside a volume ends the integration and shows through", "[
   ball.radius = 0.25f;
   world.add(Spheres(ball));
   SciVisParams params;
-  params.ambient_intensity = 1.f, params.light_intensity = 0.f;  // the sphere shows its albedo
+  params.lights = {AmbientLight{}};  // the sphere shows its albedo
   params.volume_sampling_rate = 8.f;
   for (auto isa : supported_isas()) {
     INFO(simd::isa_name(isa));

@@ -74,7 +74,7 @@ TEST_CASE("an instanced mesh renders as the same mesh transformed in place", "[w
     moved.positions[3 * v] = p.x, moved.positions[3 * v + 1] = p.y, moved.positions[3 * v + 2] = p.z;
   }
   SciVisParams params;
-  params.light_direction = {0.5f, -0.7f, -0.6f};
+  params.lights = default_lights({0.5f, -0.7f, -0.6f});
   for (auto isa : supported_isas()) {
     INFO(simd::isa_name(isa));
     const auto& kernels = shim::kernels(isa);
@@ -155,7 +155,7 @@ TEST_CASE("a scene of every geometry type, instanced and clipped, matches its re
   SciVisParams params;
   params.background_color = {0.1f, 0.1f, 0.12f};
   params.background_alpha = 1.f;
-  params.light_direction = {0.4f, -0.8f, -0.5f};
+  params.lights = default_lights({0.4f, -0.8f, -0.5f});
   PerspectiveCamera camera;
   camera.position = {0.f, 5.5f, 6.f};
   camera.direction = Vec3f{0.f, 0.6f, 0.f} - camera.position;

@@ -271,7 +271,8 @@ void ospCopyData(const OSPData source, OSPData destination, uint64_t i1, uint64_
 OSPLight ospNewLight(const char* type) {
   return guarded("ospNewLight", [&] {
     const std::string t = type_string(type);
-    if (t != "ambient" && t != "distant") unknown_type("light", t, "ambient, distant");
+    if (t != "ambient" && t != "distant" && t != "sphere" && t != "spot" && t != "quad" && t != "hdri")
+      unknown_type("light", t, "ambient, distant, sphere, spot, quad, hdri");
     return handle_of<OSPLight>(new Light(t));
   }, OSPLight{});
 }
@@ -279,7 +280,8 @@ OSPLight ospNewLight(const char* type) {
 OSPCamera ospNewCamera(const char* type) {
   return guarded("ospNewCamera", [&] {
     const std::string t = type_string(type);
-    if (t != "perspective" && t != "orthographic") unknown_type("camera", t, "perspective, orthographic");
+    if (t != "perspective" && t != "orthographic" && t != "panoramic")
+      unknown_type("camera", t, "perspective, orthographic, panoramic");
     return handle_of<OSPCamera>(new CameraObject(t));
   }, OSPCamera{});
 }
@@ -322,7 +324,9 @@ OSPVolumetricModel ospNewVolumetricModel(OSPVolume volume) {
 OSPMaterial ospNewMaterial(const char* type) {
   return guarded("ospNewMaterial", [&] {
     const std::string t = type_string(type);
-    if (t != "obj") unknown_type("material", t, "obj");
+    if (t != "obj" && t != "principled" && t != "glass" && t != "thinGlass" && t != "metal" && t != "alloy" &&
+        t != "luminous")
+      unknown_type("material", t, "obj, principled, glass, thinGlass, metal, alloy, luminous");
     return handle_of<OSPMaterial>(new Material(t));
   }, OSPMaterial{});
 }
@@ -338,7 +342,7 @@ OSPTransferFunction ospNewTransferFunction(const char* type) {
 OSPTexture ospNewTexture(const char* type) {
   return guarded("ospNewTexture", [&] {
     const std::string t = type_string(type);
-    if (t != "volume") unknown_type("texture", t, "volume");
+    if (t != "volume" && t != "texture2d") unknown_type("texture", t, "volume, texture2d");
     return handle_of<OSPTexture>(new TextureObject(t));
   }, OSPTexture{});
 }
@@ -421,10 +425,11 @@ void ospRetain(OSPObject object) {
 
 OSPFrameBuffer ospNewFrameBuffer(int width, int height, OSPFrameBufferFormat format, uint32_t channels) {
   return guarded("ospNewFrameBuffer", [&] {
-    constexpr uint32_t supported = OSP_FB_COLOR | OSP_FB_DEPTH | OSP_FB_ACCUM | OSP_FB_VARIANCE;
-    if (channels & ~supported)
-      device().warn("frame buffer: channels other than OSP_FB_COLOR, OSP_FB_DEPTH, OSP_FB_ACCUM and OSP_FB_VARIANCE "
-                    "are not supported yet and will not be filled");
+    constexpr uint32_t known = OSP_FB_COLOR | OSP_FB_DEPTH | OSP_FB_ACCUM | OSP_FB_VARIANCE | OSP_FB_NORMAL |
+                               OSP_FB_ALBEDO | OSP_FB_ID_PRIMITIVE | OSP_FB_ID_OBJECT | OSP_FB_ID_INSTANCE;
+    if (channels & ~known)
+      device().warn("frame buffer: channel bits " + std::to_string(channels & ~known) +
+                    " are not OSPFrameBufferChannel values and are ignored");
     if ((channels & OSP_FB_VARIANCE) && !(channels & OSP_FB_ACCUM))
       device().warn("frame buffer: OSP_FB_VARIANCE needs OSP_FB_ACCUM; no variance will be estimated");
     return handle_of<OSPFrameBuffer>(new FrameBufferObject(width, height, format, channels));
@@ -432,8 +437,10 @@ OSPFrameBuffer ospNewFrameBuffer(int width, int height, OSPFrameBufferFormat for
 }
 
 OSPImageOperation ospNewImageOperation(const char* type) {
-  return guarded("ospNewImageOperation", [&]() -> OSPImageOperation {
-    unknown_type("image operation", type_string(type), "none yet");
+  return guarded("ospNewImageOperation", [&] {
+    const std::string t = type_string(type);
+    if (t != "tonemapper") unknown_type("image operation", t, "tonemapper");
+    return handle_of<OSPImageOperation>(new ImageOperationObject(t));
   }, OSPImageOperation{});
 }
 
@@ -453,7 +460,7 @@ float ospGetVariance(OSPFrameBuffer fb) {
   return guarded("ospGetVariance", [&] {
     auto& frame = live_as<FrameBufferObject>(fb, OSP_FRAMEBUFFER, "frame buffer");
     std::lock_guard lock(frame.mutex());
-    return frame.frame().variance();
+    return frame.frame().variance();  // the mean of the tiles' estimated errors
   }, std::numeric_limits<float>::infinity());
 }
 
@@ -471,8 +478,6 @@ OSPRenderer ospNewRenderer(const char* type) {
   return guarded("ospNewRenderer", [&] {
     const std::string t = type_string(type);
     if (t != "scivis" && t != "ao" && t != "pathtracer") unknown_type("renderer", t, "scivis, ao, pathtracer");
-    if (t != "scivis")
-      device().warn("renderer '" + t + "': renders with scivis shading until the " + t + " renderer lands");
     return handle_of<OSPRenderer>(new Renderer(t));
   }, OSPRenderer{});
 }
@@ -510,16 +515,13 @@ OSPFuture ospRenderFrame(OSPFrameBuffer fb, OSPRenderer renderer, OSPCamera came
     Device& dev = device();
     dev.retain();  // the frame may outlive ospShutdown
     auto task = [in, &dev](FrameControl& control) {
-      SciVisParams params = in.world->lights;
-      const auto bg = in.renderer->background();
-      params.background_color = {bg[0], bg[1], bg[2]};
-      params.background_alpha = bg[3];
-      params.volume_sampling_rate = in.renderer->volume_sampling_rate();
+      const shim::RendererConfig config = in.renderer->config(*in.world);
       std::lock_guard lock(in.fb->mutex());
       try {
         dev.arena().execute([&] {
           // The kernels the world was committed with (the device's when the frame started).
-          in.world->kernels->render_scivis(*in.world->world, params, in.camera->camera(), in.fb->frame(), &control);
+          in.world->kernels->render(*in.world->world, config, in.camera->camera(), in.fb->frame(), &control,
+                                    in.renderer->frame_settings());
         });
       } catch (const std::exception& e) {
         dev.error(OSP_UNKNOWN_ERROR, std::string("ospRenderFrame: ") + e.what());
@@ -561,7 +563,9 @@ void ospPick(OSPPickResult* result, OSPFrameBuffer fb, OSPRenderer renderer, OSP
     if (!result) throw Error("result is NULL");
     *result = {};
     FrameInputs in = frame_inputs(fb, renderer, camera, world);
-    const Ray<float> ray = std::visit([&](const auto& c) { return sciray::prepare(c).generate(x, y); }, in.camera->camera());
+    // Through the lens centre: a pick asks what is at a screen point, not what one lens sample sees.
+    const Ray<float> ray = std::visit([&](const auto& c) { return sciray::prepare(c).generate(x, y, 0.5f, 0.5f); },
+                                      in.camera->camera());
     shim::TraceResult hit;
     in.world->kernels->trace(*in.world->world, std::span(&ray, 1), std::span(&hit, 1));
     if (hit.geom_id < 0) return;

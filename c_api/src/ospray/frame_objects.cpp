@@ -37,11 +37,7 @@ void ImageOperationObject::on_commit() {
   p.mid_out = get_float("midOut", p.mid_out);
   p.hdr_max = get_float("hdrMax", p.hdr_max);
   p.aces_color = get_bool("acesColor", p.aces_color);
-  try {
-    tonemapper_ = Tonemapper(p);
-  } catch (const Error& e) {
-    throw Error(name() + ": " + e.what());
-  }
+  tonemapper_ = Tonemapper(p);  // its errors name the tonemapper and the parameter
 }
 
 FrameBufferObject::FrameBufferObject(int width, int height, OSPFrameBufferFormat format, std::uint32_t channels)

@@ -43,26 +43,130 @@ void CameraObject::on_commit() {
   const Vec3f position = get_vec3f("position", {0.f, 0.f, 0.f});
   const Vec3f direction = get_vec3f("direction", {0.f, 0.f, 1.f});
   const Vec3f up = get_vec3f("up", {0.f, 1.f, 0.f});
-  const float aspect = get_float("aspect", 1.f);
+  const auto stereo = [&] { return stereo_mode_from_int(subtype(), get_int("stereoMode", OSP_STEREO_NONE)); };
+  Camera camera;
   if (subtype() == "perspective") {
-    PerspectiveCamera c{position, direction, up, get_float("fovy", 60.f), aspect};
-    prepare(c);  // validates, naming the bad parameter
-    camera_ = c;
+    PerspectiveCamera c;
+    c.position = position, c.direction = direction, c.up = up;
+    c.fovy = get_float("fovy", c.fovy);
+    c.aspect = get_float("aspect", c.aspect);
+    c.aperture_radius = get_float("apertureRadius", c.aperture_radius);
+    c.focus_distance = get_float("focusDistance", c.focus_distance);
+    c.stereo_mode = stereo();
+    c.interpupillary_distance = get_float("interpupillaryDistance", c.interpupillary_distance);
+    camera = c;
+  } else if (subtype() == "orthographic") {
+    OrthographicCamera c;
+    c.position = position, c.direction = direction, c.up = up;
+    c.height = get_float("height", c.height);
+    c.aspect = get_float("aspect", c.aspect);
+    camera = c;
   } else {
-    OrthographicCamera c{position, direction, up, get_float("height", 1.f), aspect};
-    prepare(c);
-    camera_ = c;
+    PanoramicCamera c;
+    c.position = position, c.direction = direction, c.up = up;
+    c.stereo_mode = stereo();
+    c.interpupillary_distance = get_float("interpupillaryDistance", c.interpupillary_distance);
+    camera = c;
   }
+  std::visit([](const auto& c) { prepare(c); }, camera);  // validates, naming the bad parameter
+  camera_ = camera;
 }
 
 void Material::on_commit() {
-  const Vec3f kd = get_vec3f("kd", {default_kd, default_kd, default_kd});
-  const float d = get_float("d", 1.f);
-  if (!(d >= 0.f && d <= 1.f)) throw Error(name() + ": parameter 'd' (opacity) must be in [0, 1]");
+  const std::string& type = subtype();
+  sciray::Material material;
+  if (type == "obj") {
+    ObjMaterial m;
+    m.kd = get_vec3f("kd", m.kd);
+    m.ks = get_vec3f("ks", m.ks);
+    m.ns = get_float("ns", m.ns);
+    m.d = get_float("d", m.d);
+    m.tf = get_vec3f("tf", m.tf);
+    material = m;
+  } else if (type == "principled") {
+    PrincipledMaterial m;
+    m.base_color = get_vec3f("baseColor", m.base_color);
+    m.edge_color = get_vec3f("edgeColor", m.edge_color);
+    m.metallic = get_float("metallic", m.metallic);
+    m.diffuse = get_float("diffuse", m.diffuse);
+    m.specular = get_float("specular", m.specular);
+    m.ior = get_float("ior", m.ior);
+    m.transmission = get_float("transmission", m.transmission);
+    m.transmission_color = get_vec3f("transmissionColor", m.transmission_color);
+    m.transmission_depth = get_float("transmissionDepth", m.transmission_depth);
+    m.roughness = get_float("roughness", m.roughness);
+    m.thin = get_bool("thin", m.thin);
+    m.thickness = get_float("thickness", m.thickness);
+    m.coat = get_float("coat", m.coat);
+    m.coat_ior = get_float("coatIor", m.coat_ior);
+    m.coat_color = get_vec3f("coatColor", m.coat_color);
+    m.coat_thickness = get_float("coatThickness", m.coat_thickness);
+    m.coat_roughness = get_float("coatRoughness", m.coat_roughness);
+    m.sheen = get_float("sheen", m.sheen);
+    m.sheen_color = get_vec3f("sheenColor", m.sheen_color);
+    m.sheen_tint = get_float("sheenTint", m.sheen_tint);
+    m.sheen_roughness = get_float("sheenRoughness", m.sheen_roughness);
+    m.opacity = get_float("opacity", m.opacity);
+    m.emissive_color = get_vec3f("emissiveColor", m.emissive_color);
+    material = m;
+  } else if (type == "glass") {
+    GlassMaterial m;
+    m.eta = get_float("eta", m.eta);
+    m.attenuation_color = get_vec3f("attenuationColor", m.attenuation_color);
+    m.attenuation_distance = get_float("attenuationDistance", m.attenuation_distance);
+    material = m;
+  } else if (type == "thinGlass") {
+    ThinGlassMaterial m;
+    m.eta = get_float("eta", m.eta);
+    m.attenuation_color = get_vec3f("attenuationColor", m.attenuation_color);
+    m.attenuation_distance = get_float("attenuationDistance", m.attenuation_distance);
+    m.thickness = get_float("thickness", m.thickness);
+    material = m;
+  } else if (type == "metal") {
+    MetalMaterial m;
+    if (find("ior")) throw Error(name() + ": parameter 'ior' (a spectral array) is not supported; pass RGB 'eta' and 'k'");
+    m.eta = get_vec3f("eta", m.eta);
+    m.k = get_vec3f("k", m.k);
+    m.roughness = get_float("roughness", m.roughness);
+    material = m;
+  } else if (type == "alloy") {
+    AlloyMaterial m;
+    m.color = get_vec3f("color", m.color);
+    m.edge_color = get_vec3f("edgeColor", m.edge_color);
+    m.roughness = get_float("roughness", m.roughness);
+    material = m;
+  } else {  // luminous
+    LuminousMaterial m;
+    m.color = get_vec3f("color", m.color);
+    m.intensity = get_float("intensity", m.intensity);
+    m.transparency = get_float("transparency", m.transparency);
+    material = m;
+  }
+  try {
+    validate(material);
+  } catch (const Error& e) {
+    throw Error(name() + ": " + e.what());
+  }
   Ref<TextureObject> map_kd = get_object<TextureObject>("map_kd", OSP_TEXTURE, false);
   if (map_kd && !map_kd->committed()) throw Error(name() + ": parameter 'map_kd': its texture has not been committed");
-  kd_ = kd;
+  if (map_kd && !map_kd->volume_model())
+    throw Error(name() + ": parameter 'map_kd': only volume textures are supported as maps yet (meshes carry no "
+                "texture coordinates)");
+  material_ = std::move(material);
   map_kd_ = std::move(map_kd);
+}
+
+std::optional<Vec3f> Material::base_color() const {
+  if (const auto* obj = std::get_if<ObjMaterial>(&material_)) return obj->kd;
+  if (const auto* principled = std::get_if<PrincipledMaterial>(&material_)) return principled->base_color;
+  return std::nullopt;
+}
+
+sciray::Material Material::without_base_color() const {
+  sciray::Material m = material_;
+  if (auto* obj = std::get_if<ObjMaterial>(&m)) obj->kd = {1.f, 1.f, 1.f};
+  if (auto* principled = std::get_if<PrincipledMaterial>(&m)) principled->base_color = {1.f, 1.f, 1.f};
+  return m;
 }
 
 std::uint64_t Material::version() const { return std::max(version_, map_kd_ ? map_kd_->version() : 0); }
@@ -316,10 +420,6 @@ std::string cannot_colour(const Geometry& geometry, const Material* material) {
   if (material->map_kd() && !geometry.planes())
     return "its material's 'map_kd' (a volume texture) is not supported yet on " + geometry.subtype() +
            " geometry; volume textures colour plane geometry only (slices)";
-  const Vec3f kd = material->kd();
-  if (geometry.isosurface_volume() && !(kd == Vec3f{default_kd, default_kd, default_kd}))
-    return "colours of isosurface geometry are not supported yet: its material's 'kd' " + format_vec(kd) +
-           " cannot be shown (isosurfaces show the default kd of 0.8)";
   return {};
 }
 
@@ -371,7 +471,7 @@ void GeometricModel::on_commit() {
 
 std::optional<Vec3f> GeometricModel::material_color() const {
   if (!material_) return std::nullopt;
-  return material_->kd();  // as last committed: a material commit reaches the world
+  return material_->base_color();  // as last committed: a material commit reaches the world
 }
 
 TextureObject* GeometricModel::volume_texture() const { return material_ ? material_->map_kd() : nullptr; }
@@ -732,8 +832,55 @@ std::uint64_t Geometry::version() const {
   return std::max(version_, iso_volume_ ? iso_volume_->version() : 0);
 }
 
+void TextureObject::commit_texture2d() {
+  const int format = get_int("format", OSP_TEXTURE_FORMAT_INVALID);
+  const Data* data = get_data(*this, find("data"), "data", {OSP_VEC3F, OSP_VEC4F, OSP_FLOAT, OSP_VEC3UC, OSP_VEC4UC, OSP_UCHAR});
+  if (!data) throw Error(name() + ": required parameter 'data' (a 2D array of texels) is missing");
+  if (data->dimensions() != 2) throw Error(name() + ": parameter 'data' must be a 2D array");
+  // The layouts sciray reads; the element type must agree with the format.
+  struct Layout {
+    int format;
+    OSPDataType type;
+    int channels;
+    bool srgb;
+  };
+  static constexpr Layout layouts[] = {
+      {OSP_TEXTURE_RGB32F, OSP_VEC3F, 3, false}, {OSP_TEXTURE_RGBA32F, OSP_VEC4F, 4, false},
+      {OSP_TEXTURE_R32F, OSP_FLOAT, 1, false},   {OSP_TEXTURE_RGB8, OSP_VEC3UC, 3, false},
+      {OSP_TEXTURE_RGBA8, OSP_VEC4UC, 4, false}, {OSP_TEXTURE_SRGB, OSP_VEC3UC, 3, true},
+      {OSP_TEXTURE_SRGBA, OSP_VEC4UC, 4, true},  {OSP_TEXTURE_R8, OSP_UCHAR, 1, false},
+      {OSP_TEXTURE_L8, OSP_UCHAR, 1, true}};
+  const Layout* layout = nullptr;
+  for (const Layout& l : layouts)
+    if (l.format == format) layout = &l;
+  if (!layout)
+    throw Error(name() + ": parameter 'format' " + std::to_string(format) +
+                " is not supported (RGB32F, RGBA32F, R32F, RGB8, RGBA8, SRGB, SRGBA, R8 and L8 are)");
+  if (data->element_type() != layout->type)
+    throw Error(name() + ": parameter 'data' holds " + type_name(data->element_type()) + " but 'format' needs " +
+                type_name(layout->type));
+  const bool bytes = layout->type == OSP_VEC3UC || layout->type == OSP_VEC4UC || layout->type == OSP_UCHAR;
+  std::vector<Vec3f> texels = data->to_vector<Vec3f>([&](const std::byte* e) {
+    float c[3];
+    for (int k = 0; k < 3; ++k) {
+      const int channel = layout->channels == 1 ? 0 : k;
+      float v = bytes ? static_cast<float>(reinterpret_cast<const std::uint8_t*>(e)[channel]) / 255.f
+                      : reinterpret_cast<const float*>(e)[channel];
+      c[k] = layout->srgb ? srgb_to_linear(v) : v;
+    }
+    return Vec3f{c[0], c[1], c[2]};
+  });
+  const bool nearest = get_int("filter", OSP_TEXTURE_FILTER_LINEAR) == OSP_TEXTURE_FILTER_NEAREST;
+  try {
+    image_ = std::make_shared<const Texture2D>(static_cast<int>(data->counts()[0]), static_cast<int>(data->counts()[1]),
+                                               std::move(texels), nearest);
+  } catch (const Error& e) {
+    throw Error(name() + ": " + e.what());
+  }
+}
+
 void TextureObject::on_commit() {
-  // The factory creates no other types.
+  if (subtype() == "texture2d") return commit_texture2d();
   const Param* p = find("volume");
   if (!p || !p->object) throw Error(name() + ": required parameter 'volume' (OSPVolumetricModel) is missing");
   if (p->object->kind() != OSP_VOLUMETRIC_MODEL)
@@ -873,14 +1020,52 @@ Box3f Instance::bounds() const { return transform_.transform(group_->bounds()); 
 std::uint64_t Instance::version() const { return std::max(version_, group_ ? group_->version() : 0); }
 
 void Light::on_commit() {
-  color_ = get_vec3f("color", {1.f, 1.f, 1.f});
-  intensity_ = get_float("intensity", 1.f);
-  if (!(intensity_ >= 0.f) || !std::isfinite(intensity_))
-    throw Error(name() + ": parameter 'intensity' must be finite and not negative");
-  if (subtype() == "distant") {
-    direction_ = get_vec3f("direction", {0.f, 0.f, 1.f});
-    if (length(direction_) == 0.f) throw Error(name() + ": parameter 'direction' must not be zero");
+  const auto common = [&](auto light) {
+    light.color = get_vec3f("color", {1.f, 1.f, 1.f});
+    light.intensity = get_float("intensity", 1.f);
+    light.visible = get_bool("visible", true);
+    return light;
+  };
+  const std::string& type = subtype();
+  sciray::Light light;
+  if (type == "ambient") {
+    light = common(AmbientLight{});
+  } else if (type == "distant") {
+    DistantLight l = common(DistantLight{});
+    l.direction = get_vec3f("direction", {0.f, 0.f, 1.f});
+    l.angular_diameter = get_float("angularDiameter", 0.f);
+    light = l;
+  } else if (type == "sphere") {
+    SphereLight l = common(SphereLight{});
+    l.position = get_vec3f("position", {0.f, 0.f, 0.f});
+    l.radius = get_float("radius", 0.f);
+    light = l;
+  } else if (type == "spot") {
+    SpotLight l = common(SpotLight{});
+    l.position = get_vec3f("position", {0.f, 0.f, 0.f});
+    l.direction = get_vec3f("direction", {0.f, 0.f, 1.f});
+    l.opening_angle = get_float("openingAngle", 180.f);
+    l.penumbra_angle = get_float("penumbraAngle", 5.f);
+    l.radius = get_float("radius", 0.f);
+    light = l;
+  } else if (type == "quad") {
+    QuadLight l = common(QuadLight{});
+    l.position = get_vec3f("position", {0.f, 0.f, 0.f});
+    l.edge1 = get_vec3f("edge1", {1.f, 0.f, 0.f});
+    l.edge2 = get_vec3f("edge2", {0.f, 1.f, 0.f});
+    light = l;
+  } else {  // hdri
+    auto* map = get_object<TextureObject>("map", OSP_TEXTURE, true);
+    if (!map->committed() || !map->image()) throw Error(name() + ": parameter 'map' must be a committed texture2d");
+    HdriLight l = common(HdriLight(map->image(), get_vec3f("up", {0.f, 1.f, 0.f}), get_vec3f("direction", {0.f, 0.f, 1.f})));
+    light = l;
   }
+  try {
+    validate(light);
+  } catch (const Error& e) {
+    throw Error(name() + ": " + e.what());
+  }
+  light_ = std::move(light);
 }
 
 void World::on_commit() {
@@ -1150,31 +1335,42 @@ std::shared_ptr<const BuiltGroup> World::build_group(Group& group, const shim::I
     if (const std::string why = cannot_colour(geometry, model->material()); !why.empty())
       throw Error("parameter 'geometry' element " + std::to_string(k) + " (" + model->name() + " of " +
                   geometry.name() + "): " + why);
+    // Geometries bake their material's base colour into their colours, except
+    // isosurfaces, which have none.
+    const std::uint32_t material = material_index(model->material(), !geometry.isosurface());
     if (geometry.spheres()) {
-      built->group->add(model_spheres(*model, built->keep_alive));
+      built->group->add(model_spheres(*model, built->keep_alive), material);
     } else if (geometry.curves()) {
-      built->group->add(model_curves(*model));
+      built->group->add(model_curves(*model), material);
     } else if (geometry.boxes()) {
       // Boxes and planes own their primitives with the model's colours.
       const auto& data = *geometry.boxes();
       built->group->add(
-          Boxes(data.boxes, tinted_colors(model->face_colors(), model->material_color(), data.boxes.size())));
+          Boxes(data.boxes, tinted_colors(model->face_colors(), model->material_color(), data.boxes.size())), material);
     } else if (geometry.planes()) {
       const auto& data = *geometry.planes();
       auto colors = tinted_colors(model->face_colors(), model->material_color(), data.planes.size());
       if (model->volume_texture())
-        built->group->add(model_slice(*model, data, std::move(colors)));  // planes coloured by a volume
+        built->group->add(model_slice(*model, data, std::move(colors)), material);  // planes coloured by a volume
       else
-        built->group->add(Planes(data.planes, data.bounds, std::move(colors)));
+        built->group->add(Planes(data.planes, data.bounds, std::move(colors)), material);
     } else if (const auto isosurface = geometry.isosurface()) {
-      built->group->add(*isosurface);  // a copy: the volume is shared
+      built->group->add(*isosurface, material);  // a copy: the volume is shared
     } else {
-      built->group->add(model_mesh(*model, built->keep_alive));
+      built->group->add(model_mesh(*model, built->keep_alive), material);
     }
     built->models.push_back(model);
   }
   // Committed with the world, through the kernels (sciray's intersectors are per ISA).
   return built;
+}
+
+std::uint32_t World::material_index(Material* material, bool baked) {
+  if (!material) return no_material;
+  for (std::size_t i = 0; i < materials_.size(); ++i)
+    if (materials_[i].material.get() == material && materials_[i].baked == baked) return static_cast<std::uint32_t>(i);
+  materials_.push_back({material, baked});
+  return static_cast<std::uint32_t>(materials_.size() - 1);
 }
 
 std::shared_ptr<const BuiltWorld> World::built(const shim::IsaKernels& kernels, BuildLog& log) {
@@ -1227,25 +1423,9 @@ std::shared_ptr<const BuiltWorld> World::built(const shim::IsaKernels& kernels, 
   // intersector compiled for its ISA), then the top-level BVH over the instances.
   kernels.commit(*built->world);
 
-  // scivis takes ambient light plus one distant light.
-  SciVisParams& lights = built->lights;
-  lights.ambient_intensity = 0.f;
-  lights.light_intensity = 0.f;
-  lights.ambient_color = {0.f, 0.f, 0.f};
-  bool have_distant = false;
-  for (const auto& light : lights_) {
-    if (light->subtype() == "ambient") {
-      lights.ambient_color += light->color() * light->intensity();
-      lights.ambient_intensity = 1.f;
-    } else if (!have_distant) {
-      lights.light_direction = light->direction();
-      lights.light_color = light->color();
-      lights.light_intensity = light->intensity();
-      have_distant = true;
-    } else {
-      log.warnings.push_back("world: only one distant light is used yet; further distant lights are ignored");
-    }
-  }
+  for (const auto& light : lights_) built->lights.push_back(light->light());
+  for (const MaterialEntry& entry : materials_)
+    built->materials.push_back(entry.baked ? entry.material->without_base_color() : entry.material->material());
   // Only a successful build replaces the cache: groups no instance uses any more go.
   group_cache_.clear();
   for (const auto& [group, index] : group_index) group_cache_.emplace(group, built->groups[index]);
@@ -1284,12 +1464,74 @@ std::shared_ptr<Clipping> World::build_clipping() const {
 }
 
 void Renderer::on_commit() {
-  const auto background = get_color4("backgroundColor", {0.f, 0.f, 0.f, 0.f});
-  const float rate = get_float("volumeSamplingRate", 1.f);
-  if (!(rate > 0.f) || !std::isfinite(rate))
-    throw Error(name() + ": parameter 'volumeSamplingRate' must be positive and finite, got " + std::to_string(rate));
-  background_ = background;
-  volume_sampling_rate_ = rate;
+  const auto common = [&](auto params) {
+    const auto background = get_color4("backgroundColor", {0.f, 0.f, 0.f, 0.f});
+    params.background_color = {background[0], background[1], background[2]};
+    params.background_alpha = background[3];
+    params.max_path_length = get_int("maxPathLength", params.max_path_length);
+    params.min_contribution = get_float("minContribution", params.min_contribution);
+    params.volume_sampling_rate = get_float("volumeSamplingRate", params.volume_sampling_rate);
+    if (auto* backplate = get_object<TextureObject>("map_backplate", OSP_TEXTURE, false)) {
+      if (!backplate->committed() || !backplate->image())
+        throw Error(name() + ": parameter 'map_backplate' must be a committed texture2d");
+      params.backplate = backplate->image();
+    }
+    return params;
+  };
+  shim::RendererConfig config;
+  if (subtype() == "scivis") {
+    SciVisParams p = common(SciVisParams{});
+    p.shadows = get_bool("shadows", p.shadows);
+    p.ao_samples = get_int("aoSamples", p.ao_samples);
+    p.ao_distance = get_float("aoDistance", p.ao_distance);
+    config = p;
+  } else if (subtype() == "ao") {
+    AOParams p = common(AOParams{});
+    p.ao_samples = get_int("aoSamples", p.ao_samples);
+    p.ao_distance = get_float("aoDistance", p.ao_distance);
+    p.ao_intensity = get_float("aoIntensity", p.ao_intensity);
+    config = p;
+  } else {
+    PathTracerParams p = common(PathTracerParams{});
+    p.roulette_path_length = get_int("roulettePathLength", p.roulette_path_length);
+    p.max_contribution = get_float("maxContribution", p.max_contribution);
+    config = p;
+  }
+  // What the renderers check of their parameters, checked now with no lights or materials.
+  std::visit(
+      [&](const auto& p) {
+        validate(p, 0, subtype());  // names "<type> renderer: parameter ..."
+        if constexpr (!std::is_same_v<std::decay_t<decltype(p)>, PathTracerParams>) {
+          if (p.ao_samples < 0) throw Error(name() + ": parameter 'aoSamples' must not be negative");
+          if (!(p.ao_distance > 0.f)) throw Error(name() + ": parameter 'aoDistance' must be positive");
+        } else {
+          if (p.roulette_path_length < 0) throw Error(name() + ": parameter 'roulettePathLength' must not be negative");
+          if (!(p.max_contribution > 0.f)) throw Error(name() + ": parameter 'maxContribution' must be positive");
+        }
+      },
+      config);
+  FrameSettings settings;
+  settings.pixel_samples = get_int("pixelSamples", 1);
+  settings.variance_threshold = get_float("varianceThreshold", 0.f);
+  try {
+    settings.pixel_filter = pixel_filter_from_int(get_int("pixelFilter", static_cast<int>(PixelFilter::gauss)));
+    validate(settings);
+  } catch (const Error& e) {
+    throw Error(name() + ": parameter " + e.what());
+  }
+  config_ = std::move(config);
+  settings_ = settings;
+}
+
+shim::RendererConfig Renderer::config(const BuiltWorld& world) const {
+  shim::RendererConfig config = config_;
+  std::visit(
+      [&](auto& p) {
+        p.lights = world.lights;
+        p.materials = world.materials;
+      },
+      config);
+  return config;
 }
 
 }  // namespace sciray::ospray

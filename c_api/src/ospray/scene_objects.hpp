@@ -45,6 +45,8 @@ using EngineVolume = detail::VolumeTypesOf<shim::EngineWorld>::Volume;
 /// A volumetric model of one of the engine's volume types.
 using EngineVolumetricModel = detail::VolumeTypesOf<shim::EngineWorld>::Model;
 
+/// OSPRay's `perspective` (with depth of field and stereo), `orthographic` and
+/// `panoramic` (with stereo) cameras.
 class CameraObject : public Object {
 public:
   explicit CameraObject(std::string type) : Object(OSP_CAMERA, std::move(type)) {}
@@ -131,10 +133,14 @@ private:
 /// OSPRay's `volume` texture: `volume`, a volumetric model whose transfer function
 /// colours the points of a surface by the volume's value there. As a material's `map_kd`
 /// it turns plane geometry into slices (the engine's VolumeSlice).
+/// And OSPRay's `texture2d`: an image (`data`, a 2D array in `format`), used by lights
+/// (`hdri` map) and renderers (`map_backplate`).
 class TextureObject : public Object {
 public:
   explicit TextureObject(std::string type) : Object(OSP_TEXTURE, std::move(type)) {}
   VolumetricModelObject* volume_model() const { return model_.get(); }
+  /// The image of a texture2d (null for a volume texture).
+  const std::shared_ptr<const Texture2D>& image() const { return image_; }
   /// Also counts the model's (its volume's and transfer function's) commits.
   std::uint64_t version() const override;
 
@@ -142,7 +148,10 @@ protected:
   void on_commit() override;
 
 private:
+  void commit_texture2d();
+
   Ref<VolumetricModelObject> model_;
+  std::shared_ptr<const Texture2D> image_;
 };
 
 /// The `kd` an obj material has where none is given (OSPRay's default), which is also
@@ -152,7 +161,13 @@ inline constexpr float default_kd = 0.8f;
 class Material : public Object {
 public:
   explicit Material(std::string type) : Object(OSP_MATERIAL, std::move(type)) {}
-  Vec3f kd() const { return kd_; }
+  /// The engine material for the committed parameters.
+  const sciray::Material& material() const { return material_; }
+  /// The colour geometries bake into their own colours (obj `kd`, principled `baseColor`),
+  /// none for materials whose colour is not a plain diffuse tint.
+  std::optional<Vec3f> base_color() const;
+  /// material() with its base colour white, for geometries that baked it in.
+  sciray::Material without_base_color() const;
   /// `map_kd`: a volume texture whose colour multiplies kd, or null.
   TextureObject* map_kd() const { return map_kd_.get(); }
   /// Also counts the texture's commits.
@@ -162,7 +177,7 @@ protected:
   void on_commit() override;
 
 private:
-  Vec3f kd_{default_kd, default_kd, default_kd};
+  sciray::Material material_;
   Ref<TextureObject> map_kd_;
 };
 
@@ -313,17 +328,14 @@ private:
 class Light : public Object {
 public:
   explicit Light(std::string type) : Object(OSP_LIGHT, std::move(type)) {}
-  Vec3f color() const { return color_; }
-  float intensity() const { return intensity_; }
-  Vec3f direction() const { return direction_; }
+  /// The engine light for the committed parameters.
+  const sciray::Light& light() const { return light_; }
 
 protected:
   void on_commit() override;
 
 private:
-  Vec3f color_{1.f, 1.f, 1.f};
-  float intensity_ = 1.f;
-  Vec3f direction_{0.f, 0.f, 1.f};
+  sciray::Light light_;
 };
 
 /// The engine's form of one OSPRay group: one engine group holding a geometry per model
@@ -363,7 +375,8 @@ struct BuiltWorld {
     std::size_t group;  ///< index into `groups`
   };
   std::vector<PlacedInstance> instances;  ///< by engine instance index
-  SciVisParams lights;                    ///< light part of the scivis parameters
+  std::vector<sciray::Light> lights;
+  std::vector<sciray::Material> materials;  ///< what the geometries' material indices name
   std::uint64_t version = 0;
 
   struct Origin {
@@ -396,12 +409,21 @@ protected:
 
 private:
   std::shared_ptr<const BuiltGroup> build_group(Group& group, const shim::IsaKernels& kernels);
+  /// The engine material index of `material` (no_material for none), as baked (base colour
+  /// in the geometry's colours) or not. Indices stay valid across builds, so that cached
+  /// groups keep theirs.
+  std::uint32_t material_index(Material* material, bool baked);
   /// The clipping geometry of every instance's group, placed by the instance, in world
   /// space; null when there is none.
   std::shared_ptr<Clipping> build_clipping() const;
 
   std::vector<Ref<Instance>> instances_;
   std::vector<Ref<Light>> lights_;
+  struct MaterialEntry {
+    Ref<Material> material;
+    bool baked;
+  };
+  std::vector<MaterialEntry> materials_;
   std::mutex build_mutex_;
   /// One Embree device for all of this world's builds, so that unchanged groups carry over.
   std::shared_ptr<accel::Device> device_;
@@ -410,19 +432,21 @@ private:
   std::shared_ptr<const BuiltWorld> built_;
 };
 
+/// OSPRay's renderers `scivis`, `ao` and `pathtracer` with their parameters; the world
+/// supplies lights and materials at each frame.
 class Renderer : public Object {
 public:
   explicit Renderer(std::string type) : Object(OSP_RENDERER, std::move(type)) {}
-  std::array<float, 4> background() const { return background_; }
-  /// `volumeSamplingRate`: samples per cell of a volume.
-  float volume_sampling_rate() const { return volume_sampling_rate_; }
+  /// The engine renderer for `world`'s lights and materials.
+  shim::RendererConfig config(const BuiltWorld& world) const;
+  const FrameSettings& frame_settings() const { return settings_; }
 
 protected:
   void on_commit() override;
 
 private:
-  std::array<float, 4> background_{0.f, 0.f, 0.f, 0.f};
-  float volume_sampling_rate_ = 1.f;
+  shim::RendererConfig config_;
+  FrameSettings settings_;
 };
 
 }  // namespace sciray::ospray

@@ -125,12 +125,14 @@ std::uint32_t render_frame(const Renderer& renderer, const CameraT& camera, Fram
               inside[i] = pixel[i] >= 0 ? 1.f : 0.f;
             }
             const M active = simd::load<Arch>(inside) > F(0.f);
+            CameraSequence sequence[W];
+            for (int i = 0; i < W; ++i) sequence[i] = CameraSequence(static_cast<std::uint32_t>(std::max(pixel[i], 0)));
             PixelSample<Arch> frame;
             F frame_projected(0.f);
             for (std::uint32_t s = 0; s < samples; ++s) {
               const std::uint32_t sample_index = first_sample + s;
               for (int i = 0; i < W; ++i) {
-                const CameraSample cs = camera_sample(static_cast<std::uint32_t>(std::max(pixel[i], 0)), sample_index);
+                const CameraSample cs = sequence[i](sample_index);
                 const FilterOffset offset = filter.sample(cs.film_x, cs.film_y);
                 screen_x[i] = (static_cast<float>(x0 + i % S::width) + 0.5f + offset.x) * inv_width;
                 screen_y[i] = (static_cast<float>(y0 + i / S::width) + 0.5f + offset.y) * inv_height;

@@ -52,6 +52,7 @@ class PixelRandom {
 public:
   static constexpr int low_discrepancy_pairs = 8;
 
+  PixelRandom() : PixelRandom(0, 0) {}
   PixelRandom(std::uint32_t pixel, std::uint32_t sample)
       : pixel_(pixel), sample_(sample), pcg_((static_cast<std::uint64_t>(pixel) << 32) | sample, pixel) {}
 

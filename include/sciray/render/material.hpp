@@ -4,6 +4,7 @@
 // The scivis and ao renderers read the `obj` view of any material (obj_view); the path
 // tracer evaluates each type's BSDF (render/bsdf.hpp). Colours are linear RGB.
 #include <cmath>
+#include <cstdint>
 #include <string>
 #include <variant>
 
@@ -86,6 +87,10 @@ struct LuminousMaterial {
   float intensity = 1.f;
   float transparency = 0.f;
 };
+
+/// The material index of geometries added without one: they show their own colours,
+/// 0.8 grey where they have none.
+inline constexpr std::uint32_t no_material = 0xffffffffu;
 
 using Material = std::variant<ObjMaterial, PrincipledMaterial, GlassMaterial, ThinGlassMaterial, MetalMaterial,
                               AlloyMaterial, LuminousMaterial>;

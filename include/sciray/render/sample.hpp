@@ -20,9 +20,9 @@ template <class Arch>
 struct PixelSample {
   using F = simd::Float<Arch>;
   using I = simd::Int<Arch>;
-  Vec3<F> color;  ///< linear RGB
-  F alpha;
-  F t;  ///< distance to the first hit along the unit ray direction (inf if none)
+  Vec3<F> color{F(0.f), F(0.f), F(0.f)};  ///< linear RGB
+  F alpha = F(0.f);
+  F t = F(0.f);  ///< distance to the first hit along the unit ray direction (inf if none)
   Vec3<F> normal{F(0.f), F(0.f), F(0.f)};  ///< world-space shading normal of the first hit, facing the camera
   Vec3<F> albedo{F(0.f), F(0.f), F(0.f)};  ///< the first hit's material albedo (background colour where none)
   I prim_id = I(-1);  ///< primitive, geometry and instance of the first hit; -1 where none

@@ -1,119 +1,329 @@
 #pragma once
-// The `scivis` renderer, first cut: OpenGL-like local shading of the first hit with
-// per-vertex or per-face colours, (interpolated) normals, one directional light and
-// ambient light, two-sided as visualization data is rarely closed; volumes of a
-// VolumeWorld integrated in front of that hit and composited over it. Later issues add
-// shadows, ambient occlusion and transparency.
+// The `scivis` and `ao` renderers: fast, OpenGL-like local shading for visualization,
+// with the depth cues of ray tracing where asked for.
+//
+// scivis: kd (times the geometry's colour) lit by every light: ambient lights scaled by
+// the unoccluded fraction of `aoSamples` cosine-weighted rays within `aoDistance`;
+// other lights with a Lambertian term plus Blinn-Phong `ks`/`ns`, hard shadows for
+// lights without size and soft ones (one sample per pixel sample) for lights with size
+// when `shadows` is set. Surfaces with opacity `d` < 1 or a transmissive filter `tf` let
+// the ray continue, up to `maxPathLength` surfaces; shadows are tinted by them too.
+// Volumes are integrated on the same rays, between surfaces.
+//
+// ao: kd times `aoIntensity` times the unoccluded fraction of `aoSamples` rays, with the
+// same transparency and volumes.
+//
+// Shading runs on packets: the lanes of a packet that hit one geometry share a material,
+// and the directional and ambient lights are the same for every lane.
 #include <cmath>
 #include <limits>
+#include <type_traits>
 
-#include "sciray/accel/trace.hpp"
-#include "sciray/math/affine.hpp"
-#include "sciray/math/vec.hpp"
-#include "sciray/render/sample.hpp"
-#include "sciray/volume/volumetric_model.hpp"
+#include "sciray/render/common.hpp"
+#include "sciray/math/random.hpp"
 
 namespace sciray {
 
-struct SciVisParams {
-  Vec3f background_color{0.f, 0.f, 0.f};
-  float background_alpha = 0.f;
-  Vec3f default_color{0.8f, 0.8f, 0.8f};  ///< where the geometry has no colours
-  Vec3f ambient_color{1.f, 1.f, 1.f};
-  float ambient_intensity = 0.2f;
-  Vec3f light_direction{0.f, 0.f, -1.f};  ///< the direction the light travels (OSPRay 'distant')
-  Vec3f light_color{1.f, 1.f, 1.f};
-  float light_intensity = 0.8f;
-  float volume_sampling_rate = 1.f;   ///< OSPRay's volumeSamplingRate: samples per cell
-  bool empty_space_skipping = true;
-  bool volume_gradient_shading = false;
-  bool volume_preintegration = false;  ///< see VolumeIntegration::preintegration
-  bool volume_adaptive_sampling = false;  ///< see VolumeIntegration::adaptive_sampling
+struct SciVisParams : RendererParams {
+  bool shadows = false;
+  int ao_samples = 0;                   ///< aoSamples
+  float ao_distance = 1e20f;            ///< aoDistance
 };
 
-template <class Arch, class WorldT>
-class SciVis {
+struct AOParams : RendererParams {
+  AOParams() { lights.clear(); }
+  int ao_samples = 1;
+  float ao_distance = 1e20f;
+  float ao_intensity = 1.f;  ///< aoIntensity
+};
+
+namespace detail {
+
+template <class Arch>
+simd::Float<Arch> pow(const simd::Float<Arch>& x, float e) {
+  if constexpr (std::is_same_v<Arch, simd::scalar>)
+    return std::pow(x, e);
+  else
+    return xsimd::pow(x, simd::Float<Arch>(e));
+}
+
+/// Local shading shared by scivis and ao; `Params` picks which.
+template <class Arch, class WorldT, class Params>
+class LocalRenderer {
 public:
   using F = simd::Float<Arch>;
+  using I = simd::Int<Arch>;
   using M = simd::Mask<Arch>;
+  static constexpr int W = simd::width<Arch>;
+  static constexpr bool is_ao = std::is_same_v<Params, AOParams>;
 
-  SciVis(const WorldT& world, const SciVisParams& params)
-      : world_(&world), params_(params), to_light_(-normalize(params.light_direction)) {}
+  LocalRenderer(const WorldT& world, const Params& params)
+      : world_(&world), params_(params), to_light_(key_light_direction(params.lights)) {
+    validate(params_, world.materials_needed(), is_ao ? "ao" : "scivis");
+    if (params_.ao_samples < 0) throw Error(std::string(is_ao ? "ao" : "scivis") + " renderer: parameter 'aoSamples' must not be negative");
+    if (!(params_.ao_distance > 0.f)) throw Error(std::string(is_ao ? "ao" : "scivis") + " renderer: parameter 'aoDistance' must be positive");
+    for (const Material& m : params_.materials) {
+      surfaces_.push_back(obj_view(m));
+      luminous_.push_back(std::holds_alternative<LuminousMaterial>(m));
+      const ObjMaterial& o = surfaces_.back();
+      if (o.d < 1.f || o.tf.x > 0.f || o.tf.y > 0.f || o.tf.z > 0.f) any_transparent_ = true;
+    }
+    for (const Light& l : params_.lights) {
+      if (const auto* a = std::get_if<AmbientLight>(&l))
+        ambient_ = ambient_ + a->color * a->intensity;
+      else
+        direct_lights_.push_back(&l);
+    }
+    if constexpr (is_ao) ambient_ = splat(params_.ao_intensity);
+    const Box3f b = world.bounds();
+    scene_size_ = b.empty() ? 1.f : length(b.size());
+  }
 
-  PixelSample<Arch> render(const Ray<F>& ray, const M& active, const SampleIndex<Arch>& = {}) const {
-    const auto hit = accel::intersect<Arch>(world_->scene(), ray, active, true, world_->hit_filter());
+  PixelSample<Arch> render(const Ray<F>& camera_ray, const M& active, const SampleIndex<Arch>& index = {}) const {
+    PixelRandom rng[W];
+    for (int i = 0; i < W; ++i) rng[i] = PixelRandom(static_cast<std::uint32_t>(simd::lane(index.pixel, i)), index.sample);
+    const F inf(std::numeric_limits<float>::infinity());
+
     PixelSample<Arch> out;
-    out.color = Vec3<F>(params_.background_color);
-    out.alpha = F(params_.background_alpha);
-    out.t = simd::select(hit.hit, hit.t, F(std::numeric_limits<float>::infinity()));
-    if (simd::any(hit.hit)) shade_surfaces(ray, hit, out);
-    if constexpr (requires { world_->volume_count(); })
-      if (world_->volume_count()) composite_volumes(ray, active, out);
+    out.t = inf;
+    Vec3<F> color(splat(0.f)), transmittance(splat(1.f));
+    Ray<F> ray = camera_ray;
+    M live = active;
+    for (int depth = 0; simd::any(live); ++depth) {
+      const auto hit = accel::intersect<Arch>(world_->scene(), ray, live, depth == 0, world_->hit_filter());
+      composite_volumes<Arch>(*world_, params_, to_light_, ray, live, simd::select(hit.hit, hit.t, inf), color,
+                              transmittance);
+      const M surfaces = live & hit.hit;
+      if (depth == 0) record_first_hit(hit, out);
+      Vec3<F> pass(splat(0.f));
+      if (simd::any(surfaces)) shade_surfaces(ray, hit, surfaces, rng, color, transmittance, pass, out, depth == 0);
+      // Lanes that missed see the background; lanes that hit continue through what the
+      // surface lets pass, while that is worth tracing.
+      const M missed = live & !hit.hit;
+      color = color + select(missed, transmittance * background(), Vec3<F>(splat(0.f)));
+      transmittance = select(missed, transmittance, transmittance * pass);
+      const F left = simd::max(simd::max(transmittance.x, transmittance.y), transmittance.z);
+      live = surfaces & (left > F(params_.min_contribution)) & M(depth + 1 < params_.max_path_length);
+      const M stopped = surfaces & !live;
+      // A stopped path sees nothing more: what it could still pass becomes opaque.
+      transmittance = select(stopped, Vec3<F>(splat(0.f)), transmittance);
+      ray.tnear = simd::select(live, hit.t + simd::max(hit.t * F(1e-5f), F(1e-6f * scene_size_)), ray.tnear);
+    }
+    out.color = color;
+    const F transmitted = (transmittance.x + transmittance.y + transmittance.z) * F(1.f / 3.f);
+    out.alpha = F(1.f) - transmitted * F(1.f - params_.background_alpha);
+    out.albedo = select(out.t < inf, out.albedo, Vec3<F>(params_.background_color));
     return out;
   }
 
 private:
-  void shade_surfaces(const Ray<F>& ray, const accel::Hit<Arch>& hit, PixelSample<Arch>& out) const {
+  Vec3<F> background() const { return Vec3<F>(params_.background_color); }
 
-    // A packet usually hits one geometry; shade each (instance, geometry)'s lanes together.
-    M remaining = hit.hit;
+  void record_first_hit(const accel::Hit<Arch>& hit, PixelSample<Arch>& out) const {
+    out.t = simd::select(hit.hit, hit.t, out.t);
+    out.prim_id = simd::select(hit.hit, hit.prim_id, I(-1));
+    out.geom_id = simd::select(hit.hit, hit.geom_id, I(-1));
+    // Instances are numbered from 0 as the world added them; -1 for direct geometry.
+    const I first_instance(static_cast<std::int32_t>(world_->geometry_count()));
+    const M instanced = hit.hit & (simd::to_float(hit.inst_id) != F(static_cast<float>(RTC_INVALID_GEOMETRY_ID)));
+    out.inst_id = simd::select(instanced, hit.inst_id - first_instance, I(-1));
+  }
+
+  void shade_surfaces(const Ray<F>& ray, const accel::Hit<Arch>& hit, const M& surfaces, PixelRandom* rng,
+                      Vec3<F>& color, const Vec3<F>& transmittance, Vec3<F>& pass, PixelSample<Arch>& out,
+                      bool first) const {
+    M remaining = surfaces;
     while (simd::any(remaining)) {
-      const int lane = first_lane(remaining);
-      const std::int32_t geom_id = simd::lane(hit.geom_id, lane), inst_id = simd::lane(hit.inst_id, lane);
+      const int lane0 = first_lane<Arch>(remaining);
+      const std::int32_t geom_id = simd::lane(hit.geom_id, lane0), inst_id = simd::lane(hit.inst_id, lane0);
       const M lanes = remaining & (simd::to_float(hit.geom_id) == F(static_cast<float>(geom_id))) &
                       (simd::to_float(hit.inst_id) == F(static_cast<float>(inst_id)));
-      world_->visit_hit(static_cast<std::uint32_t>(inst_id), static_cast<std::uint32_t>(geom_id),
-                        [&](const auto& geometry, const Affine3f* transform) {
-                          auto surface = geometry.template surface<Arch>(hit, lanes);
-                          // Instanced hits come back in the group's space.
-                          if (transform) surface.normal = normalize(transform->normal(surface.normal));
-                          out.color = select(lanes, shade(ray, surface), out.color);
-                        });
-      out.alpha = simd::select(lanes, F(1.f), out.alpha);
+      const auto inst = static_cast<std::uint32_t>(inst_id), geom = static_cast<std::uint32_t>(geom_id);
+      world_->visit_hit(inst, geom, [&](const auto& geometry, const Affine3f* transform) {
+        auto surface = geometry.template surface<Arch>(hit, lanes);
+        Vec3<F> ng = hit.ng;
+        if (transform) surface.normal = normalize(transform->normal(surface.normal)), ng = transform->normal(ng);
+        const std::uint32_t material = world_->material_of(inst, geom);
+        const Shaded shaded = shade(ray, hit.t, surface, normalize(ng), lanes, material, rng);
+        color = color + select(lanes, transmittance * shaded.color, Vec3<F>(splat(0.f)));
+        pass = select(lanes, shaded.pass, pass);
+        if (first) {
+          out.normal = select(lanes, shaded.normal, out.normal);
+          out.albedo = select(lanes, shaded.albedo, out.albedo);
+        }
+      });
       remaining = remaining & !lanes;
     }
   }
 
-  /// Volumes in front of the surface hit (or the background), composited over it. Each
-  /// volume is integrated on its own, so overlapping volumes are composited in the order
-  /// they were added rather than interleaved.
-  void composite_volumes(const Ray<F>& ray, const M& active, PixelSample<Arch>& out) const {
-    VolumeIntegration how;
-    how.sampling_rate = params_.volume_sampling_rate;
-    how.empty_space_skipping = params_.empty_space_skipping;
-    how.gradient_shading = params_.volume_gradient_shading;
-    how.to_light = to_light_;
-    how.clipping = world_->clipping();
-    how.preintegration = params_.volume_preintegration;
-    how.adaptive_sampling = params_.volume_adaptive_sampling;
-    world_->for_each_volume([&](const auto& model) {
-      const VolumeSample<Arch> v = model.template integrate<Arch>(ray, active, out.t, how);
-      out.color = v.color + out.color * (F(1.f) - v.alpha);
-      out.alpha = v.alpha + out.alpha * (F(1.f) - v.alpha);
-    });
-  }
+  struct Shaded {
+    Vec3<F> color, pass, normal, albedo;
+  };
 
   template <class Surface>
-  Vec3<F> shade(const Ray<F>& ray, const Surface& s) const {
-    // Face the normal towards the viewer: both sides of a surface are lit.
-    const F facing = dot(s.normal, ray.dir);
-    const Vec3<F> n = select(facing > F(0.f), -s.normal, s.normal);
-    const F diffuse = simd::max(F(0.f), dot(n, Vec3<F>(to_light_)));
-    const Vec3<F> albedo = select(s.has_color, s.color, Vec3<F>(params_.default_color));
-    const Vec3<F> light = Vec3<F>(params_.ambient_color * params_.ambient_intensity) +
-                          Vec3<F>(params_.light_color * params_.light_intensity) * diffuse;
-    return albedo * light;
+  Shaded shade(const Ray<F>& ray, const F& t, const Surface& s, const Vec3<F>& ng_raw, const M& lanes,
+               std::uint32_t material, PixelRandom* rng) const {
+    static const ObjMaterial default_surface;
+    const bool has_material = material != no_material;
+    const ObjMaterial& m = has_material ? surfaces_[material] : default_surface;
+    // Both sides of a surface are lit: face the normals towards the viewer.
+    const Vec3<F> n = select(dot(s.normal, ray.dir) > F(0.f), -s.normal, s.normal);
+    const Vec3<F> ng = select(dot(ng_raw, ray.dir) > F(0.f), -ng_raw, ng_raw);
+    // Without a material, a geometry shows its own colours (the default kd where none).
+    const Vec3<F> geometry_color = select(s.has_color, s.color, Vec3<F>(has_material ? splat(1.f) : m.kd));
+    const Vec3<F> kd = has_material ? geometry_color * Vec3<F>(m.kd) : geometry_color;
+
+    Shaded out;
+    out.normal = n;
+    out.albedo = kd;
+    out.pass = Vec3<F>(splat(1.f - m.d) + m.tf * m.d);
+    if (has_material && luminous_[material]) {
+      out.color = kd * F(m.d);
+      return out;
+    }
+    const Vec3<F> p = ray.org + ray.dir * t;
+    const F offset = offset_of(p);
+    const Vec3<F> org = p + ng * offset;
+
+    Vec3<F> lit = Vec3<F>(ambient_) * ambient_visibility(org, n, lanes, rng);
+    lit = lit * kd;
+    if constexpr (!is_ao) {
+      const bool specular = m.ks.x > 0.f || m.ks.y > 0.f || m.ks.z > 0.f;
+      for (const Light* light : direct_lights_) {
+        Vec3<F> wi, weight;
+        F dist;
+        if (!sample_light(*light, p, n, lanes, rng, wi, weight, dist)) continue;
+        const F cos_theta = dot(n, wi);
+        // With shadows, light from below the geometric surface is blocked by the surface itself.
+        M lit_lanes = lanes & (cos_theta > F(0.f));
+        if (params_.shadows) lit_lanes = lit_lanes & (dot(ng, wi) > F(0.f));
+        if (!simd::any(lit_lanes)) continue;
+        Vec3<F> response = kd * cos_theta;
+        if (specular) {
+          const Vec3<F> h = normalize(wi - ray.dir);
+          response = response + Vec3<F>(m.ks) * pow<Arch>(simd::max(dot(n, h), F(0.f)), m.ns);
+        }
+        Vec3<F> arriving = weight;
+        if (params_.shadows) arriving = arriving * shadow_transmittance(org, wi, dist, lit_lanes);
+        lit = lit + select(lit_lanes, response * arriving, Vec3<F>(splat(0.f)));
+      }
+    }
+    out.color = lit * F(m.d);
+    return out;
   }
 
-  static int first_lane(const M& mask) {
-    for (int i = 0; i < simd::width<Arch>; ++i)
-      if (simd::lane(mask, i)) return i;
-    return 0;
+  /// Per-lane light samples gathered into packets; false where no lane gets light.
+  bool sample_light(const Light& light, const Vec3<F>& p, const Vec3<F>& n, const M& lanes, PixelRandom* rng,
+                    Vec3<F>& wi, Vec3<F>& weight, F& dist) const {
+    if (const auto* d = std::get_if<DistantLight>(&light); d && d->angular_diameter <= 0.f) {
+      wi = Vec3<F>(-normalize(d->direction));
+      weight = Vec3<F>(d->color * d->intensity);
+      dist = F(std::numeric_limits<float>::infinity());
+      return true;
+    }
+    alignas(64) float v[7][W];
+    bool any = false;
+    for (int i = 0; i < W; ++i) {
+      v[6][i] = 0.f;
+      for (int c = 0; c < 6; ++c) v[c][i] = 0.f;
+      if (!simd::lane(lanes, i)) continue;
+      const auto u = rng[i].next_2d();
+      const Vec3f pi{simd::lane(p.x, i), simd::lane(p.y, i), simd::lane(p.z, i)};
+      const Vec3f ni{simd::lane(n.x, i), simd::lane(n.y, i), simd::lane(n.z, i)};
+      const auto s = sample(light, pi, ni, u.u, u.v);
+      if (!s) continue;
+      any = true;
+      const float values[7] = {s->dir.x, s->dir.y, s->dir.z, s->weight.x, s->weight.y, s->weight.z, s->dist};
+      for (int c = 0; c < 7; ++c) v[c][i] = values[c];
+    }
+    wi = {simd::load<Arch>(v[0]), simd::load<Arch>(v[1]), simd::load<Arch>(v[2])};
+    weight = {simd::load<Arch>(v[3]), simd::load<Arch>(v[4]), simd::load<Arch>(v[5])};
+    dist = simd::load<Arch>(v[6]);
+    return any;
+  }
+
+  F offset_of(const Vec3<F>& p) const {
+    const F magnitude = simd::max(simd::max(simd::abs(p.x), simd::abs(p.y)), simd::abs(p.z));
+    return F(8e-6f) * magnitude + F(1e-6f * scene_size_);
+  }
+
+  /// The fraction of `aoSamples` cosine-weighted rays around n that nothing blocks within
+  /// aoDistance (1 without samples).
+  F ambient_visibility(const Vec3<F>& org, const Vec3<F>& n, const M& lanes, PixelRandom* rng) const {
+    if (params_.ao_samples == 0) return F(1.f);
+    F visible(0.f);
+    alignas(64) float d[3][W];
+    for (int k = 0; k < params_.ao_samples; ++k) {
+      for (int i = 0; i < W; ++i) {
+        const auto u = rng[i].next_2d();
+        const Vec3f w = detail::sample_cosine({simd::lane(n.x, i), simd::lane(n.y, i), simd::lane(n.z, i)}, u.u, u.v);
+        d[0][i] = w.x, d[1][i] = w.y, d[2][i] = w.z;
+      }
+      const Vec3<F> dir{simd::load<Arch>(d[0]), simd::load<Arch>(d[1]), simd::load<Arch>(d[2])};
+      const Vec3<F> through = shadow_transmittance(org, dir, F(params_.ao_distance), lanes);
+      visible = visible + (through.x + through.y + through.z) * F(1.f / 3.f);
+    }
+    return visible * F(1.f / static_cast<float>(params_.ao_samples));
+  }
+
+  /// What reaches `org` from `dist` away along `dir`: 0 where something opaque is in the
+  /// way, the product of the transparent surfaces' filters otherwise.
+  Vec3<F> shadow_transmittance(const Vec3<F>& org, const Vec3<F>& dir, const F& dist, const M& lanes) const {
+    Ray<F> ray;
+    ray.org = org;
+    ray.dir = dir;
+    ray.tnear = F(0.f);
+    ray.tfar = dist * F(1.f - 1e-5f);
+    if (!any_transparent_) {
+      const M blocked = accel::occluded<Arch>(world_->scene(), ray, lanes, false, world_->hit_filter());
+      return select(blocked, Vec3<F>(splat(0.f)), Vec3<F>(splat(1.f)));
+    }
+    Vec3<F> through(splat(1.f));
+    M live = lanes;
+    for (int depth = 0; simd::any(live) && depth <= params_.max_path_length; ++depth) {
+      const auto hit = accel::intersect<Arch>(world_->scene(), ray, live, false, world_->hit_filter());
+      const M blocked = live & hit.hit;
+      M remaining = blocked;
+      while (simd::any(remaining)) {
+        const int lane0 = first_lane<Arch>(remaining);
+        const std::int32_t geom_id = simd::lane(hit.geom_id, lane0), inst_id = simd::lane(hit.inst_id, lane0);
+        const M group = remaining & (simd::to_float(hit.geom_id) == F(static_cast<float>(geom_id))) &
+                        (simd::to_float(hit.inst_id) == F(static_cast<float>(inst_id)));
+        const std::uint32_t material =
+            world_->material_of(static_cast<std::uint32_t>(inst_id), static_cast<std::uint32_t>(geom_id));
+        if (material != no_material) {
+          const ObjMaterial& m = surfaces_[material];
+          through = select(group, through * Vec3<F>(splat(1.f - m.d) + m.tf * m.d), through);
+        } else {
+          through = select(group, Vec3<F>(splat(0.f)), through);
+        }
+        remaining = remaining & !group;
+      }
+      const F left = simd::max(simd::max(through.x, through.y), through.z);
+      live = blocked & (left > F(params_.min_contribution));
+      through = select(blocked & !live, Vec3<F>(splat(0.f)), through);
+      ray.tnear = simd::select(live, hit.t + simd::max(hit.t * F(1e-5f), F(1e-6f * scene_size_)), ray.tnear);
+    }
+    return through;
   }
 
   const WorldT* world_;
-  SciVisParams params_;
+  Params params_;
   Vec3f to_light_;
+  std::vector<ObjMaterial> surfaces_;
+  std::vector<bool> luminous_;
+  bool any_transparent_ = false;
+  Vec3f ambient_{0.f, 0.f, 0.f};
+  std::vector<const Light*> direct_lights_;
+  float scene_size_ = 1.f;
 };
+
+}  // namespace detail
+
+template <class Arch, class WorldT>
+using SciVis = detail::LocalRenderer<Arch, WorldT, SciVisParams>;
+
+template <class Arch, class WorldT>
+using AmbientOcclusion = detail::LocalRenderer<Arch, WorldT, AOParams>;
 
 }  // namespace sciray

@@ -10,6 +10,7 @@
 // Neither is templated on the SIMD architecture, because Embree's build is
 // ISA-independent; `commit<Arch>` only tells geometries with sciray's own intersectors
 // which compiled packet code to register. Renderers, which run per ray, take Arch.
+#include <algorithm>
 #include <cmath>
 #include <concepts>
 #include <cstdint>
@@ -25,6 +26,7 @@
 #include "sciray/error.hpp"
 #include "sciray/math/affine.hpp"
 #include "sciray/math/box.hpp"
+#include "sciray/render/material.hpp"
 #include "sciray/scene/clipping.hpp"
 #include "sciray/simd/packet.hpp"
 
@@ -46,12 +48,14 @@ class Group {
 public:
   explicit Group(const accel::Device& device) : device_(&device), scene_(device) {}
 
-  /// Adds a geometry; returns its id, which hits report as geom_id. Takes effect at commit.
+  /// Adds a geometry shaded with entry `material` of the renderer's material list (or, with
+  /// no_material, in its own colours); returns its id, which hits report as geom_id.
+  /// Takes effect at commit.
   template <class G>
-  std::uint32_t add(G geometry) {
+  std::uint32_t add(G geometry, std::uint32_t material = no_material) {
     static_assert((std::is_same_v<G, Geometries> || ...), "the group was not composed with this geometry type");
     auto& list = std::get<std::deque<G>>(geometries_);
-    refs_.push_back({type_index<G>(), static_cast<std::uint32_t>(list.size())});
+    refs_.push_back({type_index<G>(), static_cast<std::uint32_t>(list.size()), material});
     list.push_back(std::move(geometry));
     committed_ = false;
     return static_cast<std::uint32_t>(refs_.size() - 1);
@@ -90,6 +94,16 @@ public:
   template <class F>
   decltype(auto) visit(std::uint32_t id, F&& f) const {
     return visit_type<0>(refs_.at(id), std::forward<F>(f));
+  }
+
+  /// The material index geometry `id` was added with.
+  std::uint32_t material(std::uint32_t id) const { return refs_.at(id).material; }
+  /// How many materials the geometries need: one more than the largest index used.
+  std::uint32_t materials_needed() const {
+    std::uint32_t n = 0;
+    for (const Ref& r : refs_)
+      if (r.material != no_material) n = std::max(n, r.material + 1);
+    return n;
   }
 
   template <class G>
@@ -137,6 +151,7 @@ private:
   struct Ref {
     std::uint8_t type;
     std::uint32_t index;
+    std::uint32_t material;
   };
 
   template <class G, std::size_t I = 0>
@@ -251,6 +266,19 @@ public:
       return this->visit(geom_id, [&](const auto& g) { return f(g, static_cast<const Affine3f*>(nullptr)); });
     const Instance& instance = instances_.at(inst_id - this->geometry_count());
     return instance.group->visit(geom_id, [&](const auto& g) { return f(g, &instance.transform); });
+  }
+
+  /// The material index of the geometry a hit reports (inst_id as for visit_hit).
+  std::uint32_t material_of(std::uint32_t inst_id, std::uint32_t geom_id) const {
+    if (inst_id == RTC_INVALID_GEOMETRY_ID) return this->material(geom_id);
+    return instances_[inst_id - this->geometry_count()].group->material(geom_id);
+  }
+
+  /// How many materials the geometries, direct or instanced, need.
+  std::uint32_t materials_needed() const {
+    std::uint32_t n = GroupType::materials_needed();
+    for (const Instance& instance : instances_) n = std::max(n, instance.group->materials_needed());
+    return n;
   }
 
   /// Bytes of geometry data sciray owns (each group once, however often instanced), plus

@@ -27,6 +27,7 @@
 #include "sciray/math/affine.hpp"
 #include "sciray/math/vec.hpp"
 #include "sciray/render/camera.hpp"
+#include "sciray/render/light.hpp"
 
 namespace sciray::testing {
 
@@ -305,6 +306,17 @@ inline MeshData cornell_box() {
   return mesh;
 }
 
+/// The box's ceiling light as a quad light just below its quad, emitting downwards.
+inline std::vector<Light> cornell_box_lights() {
+  QuadLight light;
+  light.position = {343.f, 548.6f, 227.f};
+  light.edge1 = {0.f, 0.f, 105.f};
+  light.edge2 = {-130.f, 0.f, 0.f};  // edge1 x edge2 points down
+  light.color = {1.f, 0.85f, 0.6f};
+  light.intensity = 30.f;
+  return {light};
+}
+
 /// The camera the Cornell program published for the box.
 inline PerspectiveCamera cornell_box_camera(float aspect = 1.f) {
   PerspectiveCamera camera;
@@ -335,6 +347,7 @@ struct StandardScene {
   std::vector<Affine3f> instances;
   std::optional<io::VolumeFile> volume;
   std::optional<PerspectiveCamera> camera;  ///< empty: frame the bounds
+  std::vector<Light> lights;                ///< empty: the renderer's default lights
 };
 
 /// A 100 × 100 grid of transforms spaced `spacing` apart, each turned about y by a
@@ -353,7 +366,7 @@ inline StandardScene standard_scene(std::string_view name, const std::filesystem
   if (name == "torus_1M") scene.mesh = wavy_torus(1'000'000);
   else if (name == "torus_5M") scene.mesh = wavy_torus(5'000'000);
   else if (name == "torus_20M") scene.mesh = wavy_torus(20'000'000);
-  else if (name == "cornell_box") scene.mesh = cornell_box(), scene.camera = cornell_box_camera();
+  else if (name == "cornell_box") scene.mesh = cornell_box(), scene.camera = cornell_box_camera(), scene.lights = cornell_box_lights();
   else if (name == "spheres_100k") scene.spheres = random_spheres(100'000);
   else if (name == "spheres_100k_mesh") scene.mesh = tessellate_spheres(random_spheres(100'000), 1);
   else if (name == "spheres_1M") scene.spheres = random_spheres(1'000'000);

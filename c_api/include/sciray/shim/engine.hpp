@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <span>
 #include <string_view>
+#include <variant>
 
 #include "sciray/frame/framebuffer.hpp"
 #include "sciray/frame/render_frame.hpp"
@@ -16,6 +17,7 @@
 #include "sciray/geometry/spheres.hpp"
 #include "sciray/geometry/triangle_mesh.hpp"
 #include "sciray/render/camera.hpp"
+#include "sciray/render/pathtracer.hpp"
 #include "sciray/render/scivis.hpp"
 #include "sciray/scene/volume_world.hpp"
 #include "sciray/scene/world.hpp"
@@ -45,6 +47,9 @@ struct TraceResult {
   std::int32_t inst_id;  ///< top-level id of the instance hit, -1 for direct geometry or no hit
 };
 
+/// Which renderer, with its parameters: OSPRay's `scivis`, `ao` and `pathtracer`.
+using RendererConfig = std::variant<SciVisParams, AOParams, PathTracerParams>;
+
 struct IsaKernels {
   simd::Isa isa;
   /// Builds the world's BVH with sciray's own intersectors compiled for this ISA.
@@ -53,6 +58,10 @@ struct IsaKernels {
   /// (optional) reports progress and cancels.
   void (*render_scivis)(const EngineWorld& world, const SciVisParams& params, const Camera& camera, FrameBuffer& fb,
                         FrameControl* control);
+  /// Renders one frame with any renderer, taking samples per pixel, pixel filter and
+  /// variance threshold from `settings`.
+  void (*render)(const EngineWorld& world, const RendererConfig& renderer, const Camera& camera, FrameBuffer& fb,
+                 FrameControl* control, const FrameSettings& settings);
   /// Samples a float volume (linear or bricked layout) at `positions`, in packets of this
   /// ISA's width (for measuring the sampler; renderers sample inside their kernels).
   void (*sample_volume)(const StructuredRegular<float>& volume, std::span<const Vec3f> positions, std::span<float> out);

@@ -1,0 +1,176 @@
+#pragma once
+// What every renderer shares: the parameters OSPRay's renderers have in common, the
+// world's materials and lights, and the step from a packet of hits to per-lane surface
+// data. Rays travel in packets (one Embree call per packet); shading then runs lane by
+// lane, because lanes of one packet see different materials and lights and a masked
+// packet would pay for all of them in every lane.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "sciray/accel/trace.hpp"
+#include "sciray/error.hpp"
+#include "sciray/math/affine.hpp"
+#include "sciray/math/vec.hpp"
+#include "sciray/render/light.hpp"
+#include "sciray/render/material.hpp"
+#include "sciray/render/sample.hpp"
+#include "sciray/render/texture.hpp"
+#include "sciray/volume/volumetric_model.hpp"
+
+namespace sciray {
+
+/// OSPRay's parameters common to all renderers, plus the world's lights and the material
+/// list that geometries index (Group::add).
+struct RendererParams {
+  /// Entry i shades the geometries added with material i (Group::add); the material's
+  /// colour multiplies the geometry's.
+  std::vector<Material> materials;
+  std::vector<Light> lights = default_lights();
+  Vec3f background_color{0.f, 0.f, 0.f};  ///< backgroundColor (rgb)
+  float background_alpha = 0.f;           ///< backgroundColor (alpha)
+  std::shared_ptr<const Texture2D> backplate;  ///< map_backplate: screen-space background image
+  int max_path_length = 20;   ///< maxPathLength: surfaces a ray may pass through or bounce off
+  float min_contribution = 0.001f;  ///< minContribution: paths carrying less are stopped
+  float volume_sampling_rate = 1.f;  ///< volumeSamplingRate: samples per cell
+  bool empty_space_skipping = true;
+  bool volume_gradient_shading = false;
+  bool volume_preintegration = false;    ///< see VolumeIntegration::preintegration
+  bool volume_adaptive_sampling = false;  ///< see VolumeIntegration::adaptive_sampling
+};
+
+/// Throws an Error naming what is wrong with `p` for a world whose geometries need
+/// `materials_needed` materials.
+inline void validate(const RendererParams& p, std::uint32_t materials_needed, const std::string& renderer) {
+  if (materials_needed > p.materials.size())
+    throw Error(renderer + " renderer: a geometry uses material " + std::to_string(materials_needed - 1) +
+                " but only " + std::to_string(p.materials.size()) + " materials were given");
+  for (std::size_t i = 0; i < p.materials.size(); ++i) try {
+      validate(p.materials[i]);
+    } catch (const Error& e) {
+      throw Error(renderer + " renderer: material " + std::to_string(i) + ": " + e.what());
+    }
+  for (std::size_t i = 0; i < p.lights.size(); ++i) try {
+      validate(p.lights[i]);
+    } catch (const Error& e) {
+      throw Error(renderer + " renderer: light " + std::to_string(i) + ": " + e.what());
+    }
+  if (p.max_path_length < 0) throw Error(renderer + " renderer: parameter 'maxPathLength' must not be negative");
+  if (!(p.min_contribution >= 0.f)) throw Error(renderer + " renderer: parameter 'minContribution' must not be negative");
+  if (!(p.volume_sampling_rate > 0.f) || !std::isfinite(p.volume_sampling_rate))
+    throw Error(renderer + " renderer: parameter 'volumeSamplingRate' must be positive and finite, got " +
+                std::to_string(p.volume_sampling_rate));
+}
+
+/// One lane's surface hit, in world space.
+struct SurfacePoint {
+  Vec3f p;       ///< hit position
+  Vec3f n;       ///< unit shading normal, facing the incoming ray
+  Vec3f ng;      ///< unit geometric normal, facing the incoming ray
+  bool front;    ///< the ray hit the side the geometric normal points to
+  Vec3f color;   ///< the geometry's colour, (1,1,1) where it has none
+  bool has_color;
+  std::uint32_t material;  ///< index into RendererParams::materials
+};
+
+namespace detail {
+
+template <class Arch>
+int first_lane(const simd::Mask<Arch>& mask) {
+  for (int i = 0; i < simd::width<Arch>; ++i)
+    if (simd::lane(mask, i)) return i;
+  return 0;
+}
+
+/// Calls f(lane, SurfacePoint) for every lane of `mask` that `hit` hit, resolving each
+/// (instance, geometry) group of lanes once, as a packet.
+template <class Arch, class WorldT, class F>
+void for_each_surface(const WorldT& world, const Ray<simd::Float<Arch>>& ray, const accel::Hit<Arch>& hit,
+                      const simd::Mask<Arch>& mask, F&& f) {
+  using Fl = simd::Float<Arch>;
+  using M = simd::Mask<Arch>;
+  M remaining = mask & hit.hit;
+  while (simd::any(remaining)) {
+    const int lane0 = first_lane<Arch>(remaining);
+    const std::int32_t geom_id = simd::lane(hit.geom_id, lane0), inst_id = simd::lane(hit.inst_id, lane0);
+    const M lanes = remaining & (simd::to_float(hit.geom_id) == Fl(static_cast<float>(geom_id))) &
+                    (simd::to_float(hit.inst_id) == Fl(static_cast<float>(inst_id)));
+    const auto inst = static_cast<std::uint32_t>(inst_id), geom = static_cast<std::uint32_t>(geom_id);
+    const std::uint32_t material = world.material_of(inst, geom);
+    world.visit_hit(inst, geom, [&](const auto& geometry, const Affine3f* transform) {
+      auto surface = geometry.template surface<Arch>(hit, lanes);
+      Vec3<Fl> ng = hit.ng;
+      if (transform) surface.normal = transform->normal(surface.normal), ng = transform->normal(ng);
+      for (int i = 0; i < simd::width<Arch>; ++i) {
+        if (!simd::lane(lanes, i)) continue;
+        const Vec3f dir{simd::lane(ray.dir.x, i), simd::lane(ray.dir.y, i), simd::lane(ray.dir.z, i)};
+        const float t = simd::lane(hit.t, i);
+        SurfacePoint s;
+        s.p = Vec3f{simd::lane(ray.org.x, i), simd::lane(ray.org.y, i), simd::lane(ray.org.z, i)} + dir * t;
+        Vec3f g{simd::lane(ng.x, i), simd::lane(ng.y, i), simd::lane(ng.z, i)};
+        Vec3f n{simd::lane(surface.normal.x, i), simd::lane(surface.normal.y, i), simd::lane(surface.normal.z, i)};
+        const float gl = length(g), nl = length(n);
+        g = gl > 0.f && std::isfinite(gl) ? g / gl : -dir;
+        n = nl > 0.f && std::isfinite(nl) ? n / nl : g;
+        s.front = dot(g, dir) < 0.f;
+        if (!s.front) g = -g;
+        if (dot(n, dir) > 0.f) n = -n;
+        s.n = n, s.ng = g;
+        s.has_color = simd::lane(surface.has_color, i);
+        s.color = s.has_color ? Vec3f{simd::lane(surface.color.x, i), simd::lane(surface.color.y, i),
+                                      simd::lane(surface.color.z, i)}
+                              : splat(1.f);
+        s.material = material;
+        f(i, s);
+      }
+    });
+    remaining = remaining & !lanes;
+  }
+}
+
+/// How far a secondary ray starts off the surface it leaves, along the geometric normal:
+/// a few float ulps of the hit position (so that hits far from the origin do not shadow
+/// themselves) plus a tiny fraction of the scene.
+inline float ray_offset(const Vec3f& p, float scene_size) {
+  const float magnitude = std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)});
+  return 8e-6f * magnitude + 1e-6f * scene_size;
+}
+
+/// Volumes of `world` integrated along `ray` up to `t_end`, composited front to back into
+/// `color` under `transmittance` (both updated).
+template <class Arch, class WorldT>
+void composite_volumes(const WorldT& world, const RendererParams& params, const Vec3f& to_light,
+                       const Ray<simd::Float<Arch>>& ray, const simd::Mask<Arch>& active,
+                       const simd::Float<Arch>& t_end, Vec3<simd::Float<Arch>>& color,
+                       Vec3<simd::Float<Arch>>& transmittance) {
+  using Fl = simd::Float<Arch>;
+  if constexpr (requires { world.volume_count(); }) {
+    if (!world.volume_count()) return;
+    VolumeIntegration how;
+    how.sampling_rate = params.volume_sampling_rate;
+    how.empty_space_skipping = params.empty_space_skipping;
+    how.gradient_shading = params.volume_gradient_shading;
+    how.to_light = to_light;
+    how.clipping = world.clipping();
+    how.preintegration = params.volume_preintegration;
+    how.adaptive_sampling = params.volume_adaptive_sampling;
+    world.for_each_volume([&](const auto& model) {
+      const VolumeSample<Arch> v = model.template integrate<Arch>(ray, active, t_end, how);
+      color = color + transmittance * v.color;
+      transmittance = transmittance * (Fl(1.f) - v.alpha);
+    });
+  }
+}
+
+/// The direction towards the first distant light (for volume gradient shading).
+inline Vec3f key_light_direction(const std::vector<Light>& lights) {
+  for (const Light& l : lights)
+    if (const auto* d = std::get_if<DistantLight>(&l)) return -normalize(d->direction);
+  return {0.f, 0.f, 1.f};
+}
+
+}  // namespace detail
+}  // namespace sciray

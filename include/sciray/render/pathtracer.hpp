@@ -1,0 +1,307 @@
+#pragma once
+// The `pathtracer` renderer: unbiased Monte Carlo light transport with the materials of
+// render/bsdf.hpp and the lights of render/light.hpp.
+//
+// At every surface the path estimates direct light twice, by sampling each light and by
+// sampling the BSDF, and weighs the two with the power heuristic (multiple importance
+// sampling, Veach 1997), so that small bright lights and sharp highlights both converge.
+// Paths end by Russian roulette after `roulettePathLength` bounces, at `maxPathLength`,
+// or when the BSDF absorbs them; `maxContribution` clamps fireflies (biased, off by
+// default). Rays travel in packets; each lane's path is shaded on its own.
+//
+// Shadow rays are blocked by any surface, transparent or not: light through glass
+// arrives only along BSDF-sampled paths (caustics from lights with size and from the
+// environment, none from point lights). Volumes emit and absorb along the path as in
+// scivis (the same integrator); they do not scatter light yet.
+#include <cmath>
+#include <limits>
+#include <optional>
+
+#include "sciray/math/random.hpp"
+#include "sciray/render/bsdf.hpp"
+#include "sciray/render/common.hpp"
+
+namespace sciray {
+
+struct PathTracerParams : RendererParams {
+  int roulette_path_length = 5;  ///< roulettePathLength: bounces before Russian roulette starts
+  float max_contribution = std::numeric_limits<float>::infinity();  ///< maxContribution
+};
+
+template <class Arch, class WorldT>
+class PathTracer {
+public:
+  using F = simd::Float<Arch>;
+  using I = simd::Int<Arch>;
+  using M = simd::Mask<Arch>;
+  static constexpr int W = simd::width<Arch>;
+
+  PathTracer(const WorldT& world, const PathTracerParams& params) : world_(&world), params_(params) {
+    validate(params_, world.materials_needed(), "pathtracer");
+    if (params_.roulette_path_length < 0)
+      throw Error("pathtracer renderer: parameter 'roulettePathLength' must not be negative");
+    if (!(params_.max_contribution > 0.f)) throw Error("pathtracer renderer: parameter 'maxContribution' must be positive");
+    const Box3f b = world.bounds();
+    scene_size_ = b.empty() ? 1.f : length(b.size());
+  }
+
+  PixelSample<Arch> render(const Ray<F>& camera_ray, const M& active, const SampleIndex<Arch>& index = {}) const {
+    constexpr float inf = std::numeric_limits<float>::infinity();
+    Path path[W];
+    for (int i = 0; i < W; ++i) {
+      path[i].rng = PixelRandom(static_cast<std::uint32_t>(simd::lane(index.pixel, i)), index.sample);
+      path[i].alive = simd::lane(active, i);
+      path[i].org = {simd::lane(camera_ray.org.x, i), simd::lane(camera_ray.org.y, i), simd::lane(camera_ray.org.z, i)};
+      path[i].dir = {simd::lane(camera_ray.dir.x, i), simd::lane(camera_ray.dir.y, i), simd::lane(camera_ray.dir.z, i)};
+    }
+    PixelSample<Arch> out;
+    out.t = F(inf);
+    alignas(64) float first[7][W];  // t, normal, albedo of the first hit
+    alignas(64) std::int32_t ids[3][W];
+    for (int i = 0; i < W; ++i) {
+      for (auto& channel : first) channel[i] = 0.f;
+      first[0][i] = inf;
+      for (auto& id : ids) id[i] = -1;
+    }
+
+    for (int depth = 0; depth <= params_.max_path_length; ++depth) {
+      alignas(64) float lanes[6][W];
+      alignas(64) float tnear[W];
+      bool any_alive = false;
+      for (int i = 0; i < W; ++i) {
+        const Path& p = path[i];
+        any_alive |= p.alive;
+        const float v[6] = {p.org.x, p.org.y, p.org.z, p.dir.x, p.dir.y, p.dir.z};
+        for (int c = 0; c < 6; ++c) lanes[c][i] = v[c];
+        tnear[i] = 0.f;
+      }
+      if (!any_alive) break;
+      Ray<F> ray;
+      ray.org = {simd::load<Arch>(lanes[0]), simd::load<Arch>(lanes[1]), simd::load<Arch>(lanes[2])};
+      ray.dir = {simd::load<Arch>(lanes[3]), simd::load<Arch>(lanes[4]), simd::load<Arch>(lanes[5])};
+      ray.tnear = simd::load<Arch>(tnear);
+      ray.tfar = F(inf);
+      M live(false);
+      {
+        alignas(64) float alive[W];
+        for (int i = 0; i < W; ++i) alive[i] = path[i].alive ? 1.f : 0.f;
+        live = simd::load<Arch>(alive) > F(0.f);
+      }
+      const auto hit = accel::intersect<Arch>(world_->scene(), ray, live, depth == 0, world_->hit_filter());
+
+      if constexpr (requires { world_->volume_count(); })
+        if (world_->volume_count()) through_volumes(path, ray, live, simd::select(hit.hit, hit.t, F(inf)), depth);
+
+      SurfacePoint surface[W];
+      bool has_surface[W] = {};
+      detail::for_each_surface<Arch>(*world_, ray, hit, live, [&](int i, const SurfacePoint& s) {
+        surface[i] = s;
+        has_surface[i] = true;
+      });
+
+      // Light found by the BSDF-sampled ray (or seen by the camera), and emission.
+      for (int i = 0; i < W; ++i) {
+        Path& p = path[i];
+        if (!p.alive) continue;
+        const float t = has_surface[i] ? simd::lane(hit.t, i) : inf;
+        add_lights_along(p, t, depth);
+        if (!has_surface[i]) {
+          if (depth == 0) p.radiance = p.radiance + params_.background_color, p.alpha = params_.background_alpha;
+          p.alive = false;
+          continue;
+        }
+        if (p.medium != no_material) p.throughput = p.throughput * medium_transmittance(params_.materials[p.medium], t);
+        const SurfacePoint& s = surface[i];
+        p.sp = {s.n, s.ng, s.front, s.color};
+        p.p = s.p;
+        const Material& m = material(s);
+        add(p, p.throughput * emitted(m, p.sp, -p.dir), depth);
+        if (depth == 0) {
+          p.alpha = 1.f;
+          const Vec3f a = albedo(m, p.sp);
+          const float v[7] = {t, s.n.x, s.n.y, s.n.z, a.x, a.y, a.z};
+          for (int c = 0; c < 7; ++c) first[c][i] = v[c];
+          ids[0][i] = simd::lane(hit.prim_id, i);
+          ids[1][i] = simd::lane(hit.geom_id, i);
+          const std::int32_t inst = simd::lane(hit.inst_id, i);
+          ids[2][i] = inst == static_cast<std::int32_t>(RTC_INVALID_GEOMETRY_ID)
+                          ? -1
+                          : inst - static_cast<std::int32_t>(world_->geometry_count());
+        }
+        if (depth == params_.max_path_length) p.alive = false;
+      }
+
+      sample_lights(path, surface, has_surface);
+
+      // Continue each path by sampling its BSDF.
+      for (int i = 0; i < W; ++i) {
+        Path& p = path[i];
+        if (!p.alive || !has_surface[i]) continue;
+        const Material& m = material(surface[i]);
+        const Vec3f wo = -p.dir;
+        const float u_lobe = p.rng.next_1d();
+        const auto u = p.rng.next_2d();
+        const std::optional<BsdfSample> b = sample(m, p.sp, wo, u_lobe, u.u, u.v);
+        if (!b || !(b->pdf > 0.f)) {
+          p.alive = false;
+          continue;
+        }
+        p.throughput = p.throughput * b->weight;
+        p.previous_pdf = b->pdf;
+        p.previous_delta = b->delta;
+        p.previous_normal = p.sp.n;
+        if (b->transmitted && has_medium(m)) p.medium = surface[i].front ? surface[i].material : no_material;
+        const float offset = detail::ray_offset(p.p, scene_size_);
+        p.org = p.p + (b->transmitted ? -p.sp.ng : p.sp.ng) * offset;
+        p.dir = b->wi;
+        // Russian roulette: continue with the probability the path's throughput suggests.
+        if (depth + 1 >= params_.roulette_path_length) {
+          const float survive = std::min(0.95f, std::max({p.throughput.x, p.throughput.y, p.throughput.z}));
+          if (!(p.rng.next_1d() < survive)) {
+            p.alive = false;
+            continue;
+          }
+          p.throughput = p.throughput / survive;
+        }
+        if (!(std::max({p.throughput.x, p.throughput.y, p.throughput.z}) > 0.f)) p.alive = false;
+      }
+    }
+
+    alignas(64) float rgba[4][W];
+    for (int i = 0; i < W; ++i) {
+      rgba[0][i] = path[i].radiance.x, rgba[1][i] = path[i].radiance.y, rgba[2][i] = path[i].radiance.z;
+      rgba[3][i] = 1.f - (1.f - path[i].volume_alpha) * (1.f - path[i].alpha);
+    }
+    out.color = {simd::load<Arch>(rgba[0]), simd::load<Arch>(rgba[1]), simd::load<Arch>(rgba[2])};
+    out.alpha = simd::load<Arch>(rgba[3]);
+    out.t = simd::load<Arch>(first[0]);
+    out.normal = {simd::load<Arch>(first[1]), simd::load<Arch>(first[2]), simd::load<Arch>(first[3])};
+    out.albedo = {simd::load<Arch>(first[4]), simd::load<Arch>(first[5]), simd::load<Arch>(first[6])};
+    out.albedo = select(out.t < F(inf), out.albedo, Vec3<F>(params_.background_color));
+    out.prim_id = simd::load<Arch>(ids[0]);
+    out.geom_id = simd::load<Arch>(ids[1]);
+    out.inst_id = simd::load<Arch>(ids[2]);
+    return out;
+  }
+
+private:
+  struct Path {
+    PixelRandom rng;
+    bool alive = false;
+    Vec3f org, dir;
+    Vec3f throughput{1.f, 1.f, 1.f};
+    Vec3f radiance{0.f, 0.f, 0.f};
+    float alpha = 0.f;
+    ShadingPoint sp;
+    Vec3f p;
+    float previous_pdf = 0.f;
+    bool previous_delta = true;  // the camera ray: lights it sees count fully
+    Vec3f previous_normal{0.f, 0.f, 1.f};
+    std::uint32_t medium = no_material;  // the material whose interior the path is in
+    float volume_alpha = 0.f;            // opacity of the volumes in front of the camera's first hit
+  };
+
+  /// Volumes along each path's current segment, up to `t_end`: their emission is added
+  /// and their opacity attenuates the path.
+  void through_volumes(Path* path, const Ray<F>& ray, const M& live, const F& t_end, int depth) const {
+    Vec3<F> color(splat(0.f)), transmittance(splat(1.f));
+    detail::composite_volumes<Arch>(*world_, params_, detail::key_light_direction(params_.lights), ray, live, t_end,
+                                    color, transmittance);
+    for (int i = 0; i < W; ++i) {
+      Path& p = path[i];
+      if (!p.alive) continue;
+      const Vec3f c{simd::lane(color.x, i), simd::lane(color.y, i), simd::lane(color.z, i)};
+      const Vec3f t{simd::lane(transmittance.x, i), simd::lane(transmittance.y, i), simd::lane(transmittance.z, i)};
+      add(p, p.throughput * c, depth);
+      p.throughput = p.throughput * t;
+      if (depth == 0) p.volume_alpha = 1.f - (t.x + t.y + t.z) / 3.f;
+    }
+  }
+
+  /// A surface's material; without one, a white Lambertian that shows the geometry's
+  /// colours as they are (0.8 grey where it has none), like scivis.
+  const Material& material(const SurfacePoint& s) const {
+    static const Material own_colors = ObjMaterial{{1.f, 1.f, 1.f}};
+    static const Material default_grey = ObjMaterial{};
+    if (s.material != no_material) return params_.materials[s.material];
+    return s.has_color ? own_colors : default_grey;
+  }
+
+  /// Adds a contribution, clamped by maxContribution after the camera's first hit.
+  void add(Path& p, Vec3f c, int depth) const {
+    if (depth > 0) {
+      const float peak = std::max({c.x, c.y, c.z});
+      if (peak > params_.max_contribution) c = c * (params_.max_contribution / peak);
+    }
+    if (std::isfinite(c.x) && std::isfinite(c.y) && std::isfinite(c.z)) p.radiance = p.radiance + c;
+  }
+
+  static float power_heuristic(float a, float b) {
+    if (!std::isfinite(a)) return 1.f;
+    const float a2 = a * a, b2 = b * b;
+    return a2 + b2 > 0.f ? a2 / (a2 + b2) : 0.f;
+  }
+
+  /// Lights the ray (org, dir) of path p reaches before distance t: lights with size in
+  /// front of the surface, and lights at infinity where the ray escapes.
+  void add_lights_along(Path& p, float t, int depth) const {
+    for (const Light& light : params_.lights) {
+      if (depth == 0 && !std::visit([](const auto& l) { return l.visible; }, light)) continue;
+      if (is_delta(light)) continue;
+      const LightEval e = eval(light, p.org, p.previous_normal, p.dir, t);
+      if (!(e.pdf > 0.f) && !(std::max({e.radiance.x, e.radiance.y, e.radiance.z}) > 0.f)) continue;
+      // The camera sees lights directly; a bounce after a specular lobe had no light sample to share with.
+      const float w = p.previous_delta ? 1.f : power_heuristic(p.previous_pdf, e.pdf);
+      add(p, p.throughput * e.radiance * w, depth);
+    }
+  }
+
+  /// Next-event estimation: one sample of every light for every path at a surface, the
+  /// shadow rays of one light traced as a packet.
+  void sample_lights(Path* path, const SurfacePoint* surface, const bool* has_surface) const {
+    constexpr float inf = std::numeric_limits<float>::infinity();
+    for (const Light& light : params_.lights) {
+      alignas(64) float ray_lanes[7][W];
+      Vec3f contribution[W];
+      bool any = false;
+      for (int i = 0; i < W; ++i) {
+        for (auto& c : ray_lanes) c[i] = 0.f;
+        contribution[i] = splat(0.f);
+        Path& p = path[i];
+        if (!p.alive || !has_surface[i]) continue;
+        const auto u = p.rng.next_2d();
+        const std::optional<LightSample> ls = sample(light, p.p, p.sp.n, u.u, u.v);
+        if (!ls) continue;
+        const BsdfValue f = eval(material(surface[i]), p.sp, -p.dir, ls->dir);
+        if (!(std::max({f.f_cos.x, f.f_cos.y, f.f_cos.z}) > 0.f)) continue;
+        const float w = std::isfinite(ls->pdf) ? power_heuristic(ls->pdf, f.pdf) : 1.f;
+        contribution[i] = p.throughput * f.f_cos * ls->weight * w;
+        const bool below = dot(ls->dir, p.sp.ng) < 0.f;  // transmission: leave from the other side
+        const Vec3f org = p.p + (below ? -p.sp.ng : p.sp.ng) * detail::ray_offset(p.p, scene_size_);
+        const float v[7] = {org.x, org.y, org.z, ls->dir.x, ls->dir.y, ls->dir.z,
+                            std::isfinite(ls->dist) ? ls->dist * (1.f - 1e-4f) : inf};
+        for (int c = 0; c < 7; ++c) ray_lanes[c][i] = v[c];
+        any = true;
+      }
+      if (!any) continue;
+      alignas(64) float wanted[W];
+      for (int i = 0; i < W; ++i)
+        wanted[i] = std::max({contribution[i].x, contribution[i].y, contribution[i].z}) > 0.f ? 1.f : 0.f;
+      Ray<F> shadow;
+      shadow.org = {simd::load<Arch>(ray_lanes[0]), simd::load<Arch>(ray_lanes[1]), simd::load<Arch>(ray_lanes[2])};
+      shadow.dir = {simd::load<Arch>(ray_lanes[3]), simd::load<Arch>(ray_lanes[4]), simd::load<Arch>(ray_lanes[5])};
+      shadow.tnear = F(0.f);
+      shadow.tfar = simd::load<Arch>(ray_lanes[6]);
+      const M cast = simd::load<Arch>(wanted) > F(0.f);
+      const M blocked = accel::occluded<Arch>(world_->scene(), shadow, cast, false, world_->hit_filter());
+      for (int i = 0; i < W; ++i)
+        if (wanted[i] > 0.f && !simd::lane(blocked, i)) add(path[i], contribution[i], 1);
+    }
+  }
+
+  const WorldT* world_;
+  PathTracerParams params_;
+  float scene_size_ = 1.f;
+};
+
+}  // namespace sciray
