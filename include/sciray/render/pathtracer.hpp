@@ -23,9 +23,16 @@
 
 namespace sciray {
 
+/// Which estimators of direct light a path uses: both weighed by multiple importance
+/// sampling (the default), or one alone (for tests and charts: each alone is unbiased
+/// too, but noisier where the other is good; delta lights need light sampling and
+/// mirrors need BSDF sampling).
+enum class LightSampling { mis, lights_only, bsdf_only };
+
 struct PathTracerParams : RendererParams {
   int roulette_path_length = 5;  ///< roulettePathLength: bounces before Russian roulette starts
   float max_contribution = std::numeric_limits<float>::infinity();  ///< maxContribution
+  LightSampling light_sampling = LightSampling::mis;
 };
 
 template <class Arch, class WorldT>
@@ -251,7 +258,9 @@ private:
       const LightEval e = eval(light, p.org, p.previous_normal, p.dir, t);
       if (!(e.pdf > 0.f) && !(std::max({e.radiance.x, e.radiance.y, e.radiance.z}) > 0.f)) continue;
       // The camera sees lights directly; a bounce after a specular lobe had no light sample to share with.
-      const float w = p.previous_delta ? 1.f : power_heuristic(p.previous_pdf, e.pdf);
+      float w = p.previous_delta ? 1.f : power_heuristic(p.previous_pdf, e.pdf);
+      if (!p.previous_delta && params_.light_sampling != LightSampling::mis)
+        w = params_.light_sampling == LightSampling::bsdf_only ? 1.f : 0.f;
       add(p, p.throughput * e.radiance * w, depth);
     }
   }
@@ -261,6 +270,8 @@ private:
   void sample_lights(Path* path, const SurfacePoint* surface, const bool* has_surface) const {
     constexpr float inf = std::numeric_limits<float>::infinity();
     for (const Light& light : params_.lights) {
+      // Without light sampling only BSDF-sampled rays find lights; delta lights then vanish.
+      if (params_.light_sampling == LightSampling::bsdf_only) break;
       alignas(64) float ray_lanes[7][W];
       Vec3f contribution[W];
       bool any = false;
@@ -274,7 +285,9 @@ private:
         if (!ls) continue;
         const BsdfValue f = eval(material(surface[i]), p.sp, -p.dir, ls->dir);
         if (!(std::max({f.f_cos.x, f.f_cos.y, f.f_cos.z}) > 0.f)) continue;
-        const float w = std::isfinite(ls->pdf) ? power_heuristic(ls->pdf, f.pdf) : 1.f;
+        const float w = std::isfinite(ls->pdf) && params_.light_sampling == LightSampling::mis
+                            ? power_heuristic(ls->pdf, f.pdf)
+                            : 1.f;
         contribution[i] = p.throughput * f.f_cos * ls->weight * w;
         const bool below = dot(ls->dir, p.sp.ng) < 0.f;  // transmission: leave from the other side
         const Vec3f org = p.p + (below ? -p.sp.ng : p.sp.ng) * detail::ray_offset(p.p, scene_size_);
