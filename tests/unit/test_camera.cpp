@@ -301,6 +301,20 @@ TEST_CASE("camera samples: the centre first, then film and lens positions strati
     CHECK(camera_sample(pixel, 0).film_y == 0.5f);
   }
   CHECK(camera_sample(1, 5).film_x != camera_sample(2, 5).film_x);  // pixels are decorrelated
+  // Packets of pixels give each lane its own pixel's samples.
+  using A = xsimd::sse2;
+  const CameraSequence<A> packet(simd::Int<A>{3, 70, 9000, -1});
+  for (std::uint32_t sample : {0u, 1u, 77u}) {
+    const CameraSamples<simd::Float<A>> lanes = packet(sample);
+    const std::uint32_t pixels[4] = {3, 70, 9000, 0xFFFFFFFFu};
+    for (int i = 0; i < 4; ++i) {
+      const CameraSample single = camera_sample(pixels[i], sample);
+      CHECK(simd::lane(lanes.film_x, i) == single.film_x);
+      CHECK(simd::lane(lanes.film_y, i) == single.film_y);
+      CHECK(simd::lane(lanes.lens_u, i) == single.lens_u);
+      CHECK(simd::lane(lanes.lens_v, i) == single.lens_v);
+    }
+  }
   // 1024 samples of one pixel: each quarter of each of the four dimensions gets a
   // quarter of them (within 6; independent random samples would miss by 14 on average),
   // and film and lens are uncorrelated.

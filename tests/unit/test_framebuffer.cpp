@@ -294,6 +294,11 @@ TEST_CASE("pixel filters: offsets distributed as the filter, the centre for u = 
     const float radius = filter_radius(filter);
     CHECK(sampler.sample(0.5f, 0.5f).x == 0.f);
     CHECK(sampler.sample(0.5f, 0.5f).y == 0.f);
+    using F = simd::Float<xsimd::sse2>;
+    F packet_x, packet_y;
+    sampler.sample<xsimd::sse2>(F{0.f, 0.2f, 0.7f, 0.999f}, F{0.5f, 0.01f, 0.3f, 1.f}, packet_x, packet_y);
+    CHECK(simd::lane(packet_x, 2) == sampler.sample(0.7f, 0.3f).x);
+    CHECK(simd::lane(packet_y, 3) == sampler.sample(0.999f, 1.f).y);
     // A histogram of 2^16 stratified draws in bins of 1/16 pixel against the integral
     // of max(profile, 0) over each bin: within 1% of all the mass in total.
     const int bins = static_cast<int>(std::lround(2.f * radius * 16.f));

@@ -73,7 +73,10 @@ public:
     if (!(channels_ & channel_accum)) channels_ &= ~unsigned(channel_variance);
     const std::size_t n = pixel_count();
     tiles_x_ = (width + tile_size - 1) / tile_size;
-    inverse_width_ = 1.0 / width;
+    int log2_width = 0;  // ceil(log2(width))
+    while ((std::uint64_t{1} << log2_width) < static_cast<std::uint64_t>(width)) ++log2_width;
+    row_shift_ = 31 + log2_width;
+    row_magic_ = ((std::uint64_t{1} << row_shift_) + static_cast<std::uint64_t>(width) - 1) / static_cast<std::uint64_t>(width);
     const auto tiles = static_cast<std::size_t>(tiles_x_) * static_cast<std::size_t>((height + tile_size - 1) / tile_size);
     tile_frames_.assign(tiles, 0);
     tile_error_.assign(tiles, std::numeric_limits<float>::infinity());
@@ -103,13 +106,12 @@ public:
   int tiles_x() const { return tiles_x_; }
   int tile_count() const { return static_cast<int>(tile_frames_.size()); }
   int tile_of(std::int32_t pixel) const {
-    // The row by a reciprocal (exact within one for pixels below 2^31), then corrected:
-    // two integer divisions per lane would cost a third of a trivial frame.
-    std::int64_t row = static_cast<std::int64_t>(static_cast<double>(pixel) * inverse_width_);
-    row += (row + 1) * width_ <= pixel;
-    row -= row * width_ > pixel;
-    const auto column = static_cast<int>(pixel - row * width_);
-    return static_cast<int>(row / tile_size) * tiles_x_ + column / tile_size;
+    // Division by the width as a multiply and shift (Granlund and Montgomery 1994, exact
+    // for numerators below 2^31): two integer divisions per lane would cost a third of a
+    // trivial frame.
+    const auto row = static_cast<std::int32_t>((static_cast<std::uint64_t>(pixel) * row_magic_) >> row_shift_);
+    const std::int32_t column = pixel - row * width_;
+    return (row / tile_size) * tiles_x_ + column / tile_size;
   }
   /// Frames averaged into the tile so far (the index of its next frame); stays 0
   /// without accumulation.
@@ -347,7 +349,8 @@ private:
   ColorFormat format_;
   unsigned channels_;
   int tiles_x_;
-  double inverse_width_;
+  std::uint64_t row_magic_;  // pixel / width = pixel * row_magic_ >> row_shift_
+  int row_shift_;
   std::uint32_t frames_ = 0;
   std::vector<std::uint32_t> tile_frames_;
   std::vector<float> tile_error_;

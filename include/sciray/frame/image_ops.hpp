@@ -12,7 +12,10 @@
 // in linear RGB. The result is clamped to [0, 1]; exposure scales the input first.
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <numbers>
 #include <string>
+#include <type_traits>
 
 #include "sciray/error.hpp"
 #include "sciray/math/vec.hpp"
@@ -85,10 +88,32 @@ private:
 
   template <class T>
   T curve(const T& x) const {
-    using std::pow;
-    const T denominator = pow(x, T(ad_)) * T(b_) + T(c_);
+    const T denominator = pow_positive(x, ad_) * T(b_) + T(c_);
     // 0 / 0 where x = 0 and c = 0: the curve starts at 0.
-    return simd::select(x > T(0.f), pow(x, T(a_)) / denominator, T(0.f));
+    return simd::select(x > T(0.f), pow_positive(x, a_) / denominator, T(0.f));
+  }
+
+  /// x^e for x > 0 (other lanes get a finite value the caller discards). Packets take
+  /// exp2(e log2 x) with a log2 of their own: xsimd 8.1's log and pow do not compile for
+  /// AVX-512BW. log2 x = exponent + 2 atanh(t) / ln 2 with t = (m - 1) / (m + 1) for the
+  /// mantissa m in [sqrt(1/2), sqrt(2)), |t| < 0.172: five odd terms leave 4e-10.
+  template <class T>
+  static T pow_positive(const T& x, float e) {
+    if constexpr (std::is_same_v<T, float>) {
+      return std::pow(x, e);
+    } else {
+      using I = xsimd::batch<std::int32_t, typename T::arch_type>;
+      const I bits = xsimd::bitwise_cast<I>(x);
+      T exponent = xsimd::to_float((bits >> 23) - I(127));
+      T m = xsimd::bitwise_cast<T>((bits & I(0x007fffff)) | I(0x3f800000));
+      const auto above = m > T(1.41421356f);
+      m = simd::select(above, m * T(0.5f), m);
+      exponent = simd::select(above, exponent + T(1.f), exponent);
+      const T t = (m - T(1.f)) / (m + T(1.f)), t2 = t * t;
+      const T series = t * (T(1.f) + t2 * (T(1.f / 3) + t2 * (T(1.f / 5) + t2 * (T(1.f / 7) + t2 * T(1.f / 9)))));
+      const T log2_x = exponent + series * T(2.f / std::numbers::ln2_v<float>);
+      return xsimd::exp2(log2_x * T(e));
+    }
   }
 
   float exposure_;

@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "sciray/error.hpp"
+#include "sciray/simd/packet.hpp"
 
 namespace sciray {
 
@@ -116,6 +117,17 @@ public:
       default: return {invert(u), invert(v)};
     }
   }
+  /// sample() for a packet of (u, v): offsets in `x`, `y`.
+  template <class Arch>
+  void sample(const simd::Float<Arch>& u, const simd::Float<Arch>& v, simd::Float<Arch>& x,
+              simd::Float<Arch>& y) const {
+    using F = simd::Float<Arch>;
+    switch (filter_) {
+      case PixelFilter::point: x = y = F(0.f); return;
+      case PixelFilter::box: x = u - F(0.5f), y = v - F(0.5f); return;
+      default: x = invert<Arch>(u), y = invert<Arch>(v);
+    }
+  }
 
   /// The sampler of `filter`, built once.
   static const FilterSampler& of(PixelFilter filter) {
@@ -129,11 +141,15 @@ public:
 private:
   static constexpr int table_size = 1024;  // even, so that u = 0.5 is an entry
 
-  float invert(float u) const {
-    const float t = std::clamp(u, 0.f, 1.f) * table_size;
-    const int k = std::min(static_cast<int>(t), table_size - 1);
-    const float f = t - static_cast<float>(k);
-    return inverse_[k] + f * (inverse_[k + 1] - inverse_[k]);
+  float invert(float u) const { return invert<simd::scalar>(u); }
+  template <class Arch>
+  simd::Float<Arch> invert(const simd::Float<Arch>& u) const {
+    using F = simd::Float<Arch>;
+    const F t = simd::min(simd::max(u, F(0.f)), F(1.f)) * F(static_cast<float>(table_size));
+    const simd::Int<Arch> k = simd::to_int(simd::min(t, F(static_cast<float>(table_size - 1))));
+    const F f = t - simd::to_float(k);
+    const F below = simd::gather<Arch>(inverse_.data(), k), above = simd::gather<Arch>(inverse_.data() + 1, k);
+    return below + f * (above - below);
   }
 
   PixelFilter filter_;

@@ -108,9 +108,18 @@ std::uint32_t render_frame(const Renderer& renderer, const CameraT& camera, Fram
   const FilterSampler& filter = FilterSampler::of(settings.pixel_filter);
   std::atomic<std::uint32_t> tiles_rendered{0};
 
+  // Lane i of a stamp covers pixel (i % stamp width, i / stamp width).
+  const F lane = simd::lane_index<Arch>();
+  F lane_dy;
+  if constexpr (S::width == 1)
+    lane_dy = F(0.f);
+  else
+    lane_dy = xsimd::floor(lane * F(1.f / S::width));
+  const F lane_dx = lane - lane_dy * F(static_cast<float>(S::width));
+
   tbb::parallel_for(tbb::blocked_range<int>(0, tile_count), [&](const tbb::blocked_range<int>& range) {
     alignas(64) std::int32_t pixel[W];
-    alignas(64) float inside[W], screen_x[W], screen_y[W], lens_u[W], lens_v[W];
+    alignas(64) float inside[W];
     for (int tile = range.begin(); tile != range.end(); ++tile) {
       if (control && control->cancel.load(std::memory_order_relaxed)) return;
       if (!fb.tile_converged(tile, settings.variance_threshold)) {
@@ -118,35 +127,32 @@ std::uint32_t render_frame(const Renderer& renderer, const CameraT& camera, Fram
         const int tile_x0 = (tile % fb.tiles_x()) * tile_size, tile_y0 = (tile / fb.tiles_x()) * tile_size;
         for (int y0 = tile_y0; y0 < std::min(tile_y0 + tile_size, height); y0 += S::height) {
           for (int x0 = tile_x0; x0 < std::min(tile_x0 + tile_size, width); x0 += S::width) {
-            // Lane i covers pixel (i % stamp width, i / stamp width) of the stamp.
             for (int i = 0; i < W; ++i) {
               const int x = x0 + i % S::width, y = y0 + i / S::width;
               pixel[i] = x < width && y < height ? y * width + x : -1;
               inside[i] = pixel[i] >= 0 ? 1.f : 0.f;
             }
             const M active = simd::load<Arch>(inside) > F(0.f);
-            CameraSequence sequence[W];
-            for (int i = 0; i < W; ++i) sequence[i] = CameraSequence(static_cast<std::uint32_t>(std::max(pixel[i], 0)));
-            PixelSample<Arch> frame;
-            F frame_projected(0.f);
-            for (std::uint32_t s = 0; s < samples; ++s) {
+            const simd::Int<Arch> pixels = simd::load<Arch>(pixel);
+            const CameraSequence<Arch> sequence(pixels);
+            const F pixel_x = F(static_cast<float>(x0) + 0.5f) + lane_dx, pixel_y = F(static_cast<float>(y0) + 0.5f) + lane_dy;
+            // Sample s of every lane, and its projected depth.
+            F projected;
+            const auto render_sample = [&](std::uint32_t s) {
               const std::uint32_t sample_index = first_sample + s;
-              for (int i = 0; i < W; ++i) {
-                const CameraSample cs = sequence[i](sample_index);
-                const FilterOffset offset = filter.sample(cs.film_x, cs.film_y);
-                screen_x[i] = (static_cast<float>(x0 + i % S::width) + 0.5f + offset.x) * inv_width;
-                screen_y[i] = (static_cast<float>(y0 + i / S::width) + 0.5f + offset.y) * inv_height;
-                lens_u[i] = cs.lens_u, lens_v[i] = cs.lens_v;
-              }
-              const auto ray = camera.generate(simd::load<Arch>(screen_x), simd::load<Arch>(screen_y),
-                                               simd::load<Arch>(lens_u), simd::load<Arch>(lens_v));
-              const PixelSample<Arch> one =
-                  renderer.render(ray, active, SampleIndex<Arch>{simd::load<Arch>(pixel), sample_index});
-              const F projected = camera.projected_depth(ray, one.t);
-              if (s == 0) {
-                frame = one, frame_projected = projected;
-                continue;
-              }
+              const CameraSamples<F> cs = sequence(sample_index);
+              F offset_x, offset_y;
+              filter.template sample<Arch>(cs.film_x, cs.film_y, offset_x, offset_y);
+              const auto ray = camera.generate((pixel_x + offset_x) * F(inv_width), (pixel_y + offset_y) * F(inv_height),
+                                               cs.lens_u, cs.lens_v);
+              PixelSample<Arch> one = renderer.render(ray, active, SampleIndex<Arch>{pixels, sample_index});
+              projected = camera.projected_depth(ray, one.t);
+              return one;
+            };
+            PixelSample<Arch> frame = render_sample(0);
+            F frame_projected = projected;
+            for (std::uint32_t s = 1; s < samples; ++s) {
+              const PixelSample<Arch> one = render_sample(s);
               frame.color += one.color;
               frame.alpha = frame.alpha + one.alpha;
               frame.normal += one.normal;
