@@ -834,22 +834,26 @@ std::uint64_t Geometry::version() const {
 
 void TextureObject::commit_texture2d() {
   const int format = get_int("format", OSP_TEXTURE_FORMAT_INVALID);
-  const Data* data = get_data(*this, find("data"), "data", {OSP_VEC3F, OSP_VEC4F, OSP_FLOAT, OSP_VEC3UC, OSP_VEC4UC, OSP_UCHAR});
-  if (!data) throw Error(name() + ": required parameter 'data' (a 2D array of texels) is missing");
-  if (data->dimensions() != 2) throw Error(name() + ": parameter 'data' must be a 2D array");
+  const Param* p = find("data");
+  if (!p || !p->object) throw Error(name() + ": required parameter 'data' (a 2D array of texels) is missing");
+  if (p->object->kind() != OSP_DATA)
+    throw Error(name() + ": parameter 'data' must be an OSPData array, got " + type_name(p->object->kind()));
+  const auto* data = static_cast<const Data*>(p->object.get());
+  if (data->counts()[2] != 1) throw Error(name() + ": parameter 'data' must be a 2D array");
   // The layouts sciray reads; the element type must agree with the format.
   struct Layout {
     int format;
     OSPDataType type;
+    const char* type_name;
     int channels;
     bool srgb;
   };
   static constexpr Layout layouts[] = {
-      {OSP_TEXTURE_RGB32F, OSP_VEC3F, 3, false}, {OSP_TEXTURE_RGBA32F, OSP_VEC4F, 4, false},
-      {OSP_TEXTURE_R32F, OSP_FLOAT, 1, false},   {OSP_TEXTURE_RGB8, OSP_VEC3UC, 3, false},
-      {OSP_TEXTURE_RGBA8, OSP_VEC4UC, 4, false}, {OSP_TEXTURE_SRGB, OSP_VEC3UC, 3, true},
-      {OSP_TEXTURE_SRGBA, OSP_VEC4UC, 4, true},  {OSP_TEXTURE_R8, OSP_UCHAR, 1, false},
-      {OSP_TEXTURE_L8, OSP_UCHAR, 1, true}};
+      {OSP_TEXTURE_RGB32F, OSP_VEC3F, "OSP_VEC3F", 3, false},    {OSP_TEXTURE_RGBA32F, OSP_VEC4F, "OSP_VEC4F", 4, false},
+      {OSP_TEXTURE_R32F, OSP_FLOAT, "OSP_FLOAT", 1, false},      {OSP_TEXTURE_RGB8, OSP_VEC3UC, "OSP_VEC3UC", 3, false},
+      {OSP_TEXTURE_RGBA8, OSP_VEC4UC, "OSP_VEC4UC", 4, false},   {OSP_TEXTURE_SRGB, OSP_VEC3UC, "OSP_VEC3UC", 3, true},
+      {OSP_TEXTURE_SRGBA, OSP_VEC4UC, "OSP_VEC4UC", 4, true},    {OSP_TEXTURE_R8, OSP_UCHAR, "OSP_UCHAR", 1, false},
+      {OSP_TEXTURE_L8, OSP_UCHAR, "OSP_UCHAR", 1, true}};
   const Layout* layout = nullptr;
   for (const Layout& l : layouts)
     if (l.format == format) layout = &l;
@@ -857,8 +861,8 @@ void TextureObject::commit_texture2d() {
     throw Error(name() + ": parameter 'format' " + std::to_string(format) +
                 " is not supported (RGB32F, RGBA32F, R32F, RGB8, RGBA8, SRGB, SRGBA, R8 and L8 are)");
   if (data->element_type() != layout->type)
-    throw Error(name() + ": parameter 'data' holds " + type_name(data->element_type()) + " but 'format' needs " +
-                type_name(layout->type));
+    throw Error(name() + ": parameter 'data' holds " + type_name(data->element_type()) + " elements but 'format' " +
+                std::to_string(format) + " needs " + layout->type_name);
   const bool bytes = layout->type == OSP_VEC3UC || layout->type == OSP_VEC4UC || layout->type == OSP_UCHAR;
   std::vector<Vec3f> texels = data->to_vector<Vec3f>([&](const std::byte* e) {
     float c[3];

@@ -69,6 +69,7 @@ public:
       if (o.d < 1.f || o.tf.x > 0.f || o.tf.y > 0.f || o.tf.z > 0.f) any_transparent_ = true;
     }
     for (const Light& l : params_.lights) {
+      if (const auto* h = std::get_if<HdriLight>(&l); h && h->visible && !environment_) environment_ = h;
       if (const auto* a = std::get_if<AmbientLight>(&l))
         ambient_ = ambient_ + a->color * a->intensity;
       else
@@ -78,6 +79,10 @@ public:
     const Box3f b = world.bounds();
     scene_size_ = b.empty() ? 1.f : length(b.size());
   }
+
+  // Holds pointers into its own copy of the lights.
+  LocalRenderer(const LocalRenderer&) = delete;
+  LocalRenderer& operator=(const LocalRenderer&) = delete;
 
   PixelSample<Arch> render(const Ray<F>& camera_ray, const M& active, const SampleIndex<Arch>& index = {}) const {
     PixelRandom rng[W];
@@ -100,7 +105,7 @@ public:
       // Lanes that missed see the background; lanes that hit continue through what the
       // surface lets pass, while that is worth tracing.
       const M missed = live & !hit.hit;
-      color = color + select(missed, transmittance * background(), Vec3<F>(splat(0.f)));
+      if (simd::any(missed)) color = color + select(missed, transmittance * background(ray, missed), Vec3<F>(splat(0.f)));
       transmittance = select(missed, transmittance, transmittance * pass);
       const F left = simd::max(simd::max(transmittance.x, transmittance.y), transmittance.z);
       live = surfaces & (left > F(params_.min_contribution)) & M(depth + 1 < params_.max_path_length);
@@ -117,7 +122,20 @@ public:
   }
 
 private:
-  Vec3<F> background() const { return Vec3<F>(params_.background_color); }
+  /// The background colour, or where the world has a visible `hdri` light, the map.
+  Vec3<F> background(const Ray<F>& ray, const M& lanes) const {
+    if (!environment_) return Vec3<F>(params_.background_color);
+    alignas(64) float rgb[3][W];
+    for (int i = 0; i < W; ++i) {
+      Vec3f c = params_.background_color;
+      if (simd::lane(lanes, i)) {
+        const Vec3f dir{simd::lane(ray.dir.x, i), simd::lane(ray.dir.y, i), simd::lane(ray.dir.z, i)};
+        c = environment_->lookup(normalize(dir)) * environment_->color * environment_->intensity;
+      }
+      rgb[0][i] = c.x, rgb[1][i] = c.y, rgb[2][i] = c.z;
+    }
+    return {simd::load<Arch>(rgb[0]), simd::load<Arch>(rgb[1]), simd::load<Arch>(rgb[2])};
+  }
 
   void record_first_hit(const accel::Hit<Arch>& hit, PixelSample<Arch>& out) const {
     out.t = simd::select(hit.hit, hit.t, out.t);
@@ -315,6 +333,7 @@ private:
   bool any_transparent_ = false;
   Vec3f ambient_{0.f, 0.f, 0.f};
   std::vector<const Light*> direct_lights_;
+  const HdriLight* environment_ = nullptr;  ///< the first visible hdri light: the background
   float scene_size_ = 1.f;
 };
 

@@ -1,0 +1,271 @@
+// OSPRay C API: the scivis, ao and pathtracer renderers with OSPRay's lights, materials
+// and textures, checked against closed forms where light transport has one, and every
+// bad parameter named through the error callback.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <numbers>
+#include <string>
+#include <vector>
+
+#include <ospray/ospray.h>
+#include <ospray/ospray_util.h>
+
+#include "support/api_fixture.hpp"
+
+using sciray_test::ApiFixture;
+
+namespace {
+
+constexpr float pi = std::numbers::pi_v<float>;
+
+/// A 20 x 20 floor quad at y = 0 (one geometric model, optional material), a light list,
+/// an orthographic camera looking straight down at the floor's centre.
+struct FloorScene {
+  OSPGeometry mesh = ospNewGeometry("mesh");
+  OSPGeometricModel model = nullptr;
+  OSPGroup group = ospNewGroup();
+  OSPInstance instance = nullptr;
+  OSPWorld world = ospNewWorld();
+  OSPCamera camera = ospNewCamera("orthographic");
+  std::vector<OSPLight> lights;
+
+  explicit FloorScene(OSPMaterial material) {
+    const float positions[] = {-10, 0, -10, 10, 0, -10, 10, 0, 10, -10, 0, 10};
+    const unsigned quads[] = {0, 3, 2, 1};  // the normal points up
+    OSPData position_data = ospNewSharedData(positions, OSP_VEC3F, 4), index_data = ospNewSharedData(quads, OSP_VEC4UI, 1);
+    ospSetObject(mesh, "vertex.position", position_data);
+    ospSetObject(mesh, "index", index_data);
+    ospCommit(mesh);
+    ospRelease(position_data);
+    ospRelease(index_data);
+    model = ospNewGeometricModel(mesh);
+    if (material) ospSetObject(model, "material", material);
+    ospCommit(model);
+    ospSetObjectAsData(group, "geometry", OSP_GEOMETRIC_MODEL, model);
+    ospCommit(group);
+    instance = ospNewInstance(group);
+    ospCommit(instance);
+    ospSetObjectAsData(world, "instance", OSP_INSTANCE, instance);
+    ospSetVec3f(camera, "position", 0.f, 5.f, 0.f);
+    ospSetVec3f(camera, "direction", 0.f, -1.f, 0.f);
+    ospSetVec3f(camera, "up", 0.f, 0.f, 1.f);
+    ospSetFloat(camera, "height", 0.2f);
+    ospCommit(camera);
+  }
+  ~FloorScene() {
+    for (OSPLight l : lights) ospRelease(l);
+    for (OSPObject o : std::initializer_list<OSPObject>{mesh, model, group, instance, world, camera}) ospRelease(o);
+  }
+  void set_lights(std::vector<OSPLight> list) {
+    for (OSPLight l : lights) ospRelease(l);
+    lights = std::move(list);
+    OSPData data = ospNewSharedData(lights.data(), OSP_LIGHT, lights.size());
+    ospSetObject(world, "light", data);
+    ospRelease(data);
+    ospCommit(world);
+  }
+  /// The mean RGB of an 8x8 frame after `frames` accumulated frames.
+  std::array<float, 3> render(OSPRenderer renderer, int frames = 1) {
+    OSPFrameBuffer fb = ospNewFrameBuffer(8, 8, OSP_FB_RGBA32F, OSP_FB_COLOR | OSP_FB_ACCUM);
+    for (int f = 0; f < frames; ++f) ospRenderFrameBlocking(fb, renderer, camera, world);
+    const auto* rgba = static_cast<const float*>(ospMapFrameBuffer(fb, OSP_FB_COLOR));
+    std::array<float, 3> mean{};
+    for (int p = 0; p < 64; ++p)
+      for (int c = 0; c < 3; ++c) mean[c] += rgba[4 * p + c] / 64.f;
+    ospUnmapFrameBuffer(rgba, fb);
+    ospRelease(fb);
+    return mean;
+  }
+};
+
+OSPMaterial new_obj(float kd) {
+  OSPMaterial m = ospNewMaterial("obj");
+  ospSetVec3f(m, "kd", kd, kd, kd);
+  ospCommit(m);
+  return m;
+}
+
+/// A quad light of side 2 centred `height` above the origin, emitting downwards.
+OSPLight new_quad_light(float height, float radiance) {
+  OSPLight l = ospNewLight("quad");
+  ospSetVec3f(l, "position", -1.f, height, -1.f);
+  ospSetVec3f(l, "edge1", 2.f, 0.f, 0.f);
+  ospSetVec3f(l, "edge2", 0.f, 0.f, 2.f);  // edge1 x edge2 points down
+  ospSetFloat(l, "intensity", radiance);
+  ospCommit(l);
+  return l;
+}
+
+/// Irradiance at the centre below a square of half-side a at height h, radiance L.
+float square_irradiance(float a, float h, float radiance) {
+  const double x = a / h;
+  const double corner = 2.0 * (x / std::sqrt(1 + x * x)) * std::atan(x / std::sqrt(1 + x * x));
+  return static_cast<float>(radiance * 4.0 * corner / 2.0);
+}
+
+}  // namespace
+
+TEST_CASE("pathtracer through the C API: a floor under a quad light has radiance kd E / pi", "[c_api][renderers]") {
+  ApiFixture api;
+  OSPMaterial material = new_obj(0.5f);
+  FloorScene scene(material);
+  scene.set_lights({new_quad_light(1.f, 2.f)});
+  OSPRenderer renderer = ospNewRenderer("pathtracer");
+  ospSetInt(renderer, "maxPathLength", 1);  // direct light only: the floor sees nothing else
+  ospSetInt(renderer, "pixelSamples", 64);
+  ospCommit(renderer);
+  const auto c = scene.render(renderer, 4);
+  // The camera covers 0.2 x 0.2 at the centre, where the irradiance varies by < 1 %.
+  const float expected = 0.5f / pi * square_irradiance(1.f, 1.f, 2.f);
+  for (int k = 0; k < 3; ++k) CHECK(c[k] == Approx(expected).epsilon(0.02));
+  CHECK(api.messages.errors.empty());
+
+  // A small sphere light off to the side is a point light: E = I cos / d^2.
+  OSPLight point = ospNewLight("sphere");
+  ospSetVec3f(point, "position", 3.f, 4.f, 0.f);
+  ospSetFloat(point, "radius", 0.05f);
+  ospSetFloat(point, "intensity", 8.f);
+  ospCommit(point);
+  scene.set_lights({point});
+  const auto s = scene.render(renderer, 2);
+  for (int k = 0; k < 3; ++k) CHECK(s[k] == Approx(0.5f / pi * 8.f * 0.8f / 25.f).epsilon(0.02));
+  ospRelease(renderer);
+  ospRelease(material);
+}
+
+TEST_CASE("scivis and ao through the C API: ambient light, aoIntensity, shadows", "[c_api][renderers]") {
+  ApiFixture api;
+  OSPMaterial material = new_obj(0.5f);
+  FloorScene scene(material);
+  OSPLight ambient = ospNewLight("ambient");
+  ospSetFloat(ambient, "intensity", 0.6f);
+  ospCommit(ambient);
+  OSPLight distant = ospNewLight("distant");
+  ospSetVec3f(distant, "direction", 0.f, -1.f, 0.f);
+  ospSetFloat(distant, "intensity", 0.3f);
+  ospCommit(distant);
+  scene.set_lights({ambient, distant});
+
+  // scivis: kd (ambient + distant * cos) on the open floor, occluded or not.
+  OSPRenderer scivis = ospNewRenderer("scivis");
+  ospSetBool(scivis, "shadows", true);
+  ospSetInt(scivis, "aoSamples", 4);
+  ospCommit(scivis);
+  const auto lit = scene.render(scivis);
+  for (int k = 0; k < 3; ++k) CHECK(lit[k] == Approx(0.5f * (0.6f + 0.3f)).epsilon(1e-4));
+
+  // ao: kd * aoIntensity where nothing occludes.
+  OSPRenderer ao = ospNewRenderer("ao");
+  ospSetFloat(ao, "aoIntensity", 0.7f);
+  ospSetInt(ao, "aoSamples", 2);
+  ospCommit(ao);
+  const auto open = scene.render(ao);
+  for (int k = 0; k < 3; ++k) CHECK(open[k] == Approx(0.5f * 0.7f).epsilon(1e-4));
+  CHECK(api.messages.errors.empty());
+  ospRelease(scivis);
+  ospRelease(ao);
+  ospRelease(material);
+}
+
+TEST_CASE("an hdri light of a texture2d is the background scivis shows", "[c_api][renderers]") {
+  ApiFixture api;
+  FloorScene scene(nullptr);
+  // A 4x2 map: the lower half (v < 0.5, below the horizon) red, the upper half blue.
+  std::vector<float> texels;
+  for (int y = 0; y < 2; ++y)
+    for (int x = 0; x < 4; ++x) texels.insert(texels.end(), {y == 0 ? 1.f : 0.f, 0.f, y == 0 ? 0.f : 1.f});
+  OSPTexture map = ospNewTexture("texture2d");
+  ospSetInt(map, "format", OSP_TEXTURE_RGB32F);
+  ospSetInt(map, "filter", OSP_TEXTURE_FILTER_NEAREST);
+  OSPData data = ospNewSharedData2D(texels.data(), OSP_VEC3F, 4, 2);
+  ospSetObject(map, "data", data);
+  ospRelease(data);
+  ospCommit(map);
+  OSPLight hdri = ospNewLight("hdri");
+  ospSetObject(hdri, "map", map);
+  ospCommit(hdri);
+  scene.set_lights({hdri});
+  // Looking up (away from the floor) sees the blue half.
+  ospSetVec3f(scene.camera, "position", 0.f, 5.f, 0.f);
+  ospSetVec3f(scene.camera, "direction", 0.f, 1.f, 0.f);
+  ospCommit(scene.camera);
+  OSPRenderer scivis = ospNewRenderer("scivis");
+  ospCommit(scivis);
+  const auto sky = scene.render(scivis);
+  CHECK(sky[0] == Approx(0.f).margin(1e-6));
+  CHECK(sky[2] == Approx(1.f).epsilon(1e-5));
+  CHECK(api.messages.errors == std::vector<std::string>{});
+  ospRelease(scivis);
+  ospRelease(map);
+}
+
+TEST_CASE("bad lights, materials, textures and renderer parameters are named", "[c_api][renderers][errors]") {
+  ApiFixture api;
+  CHECK(ospNewLight("photometric") == nullptr);
+  api.expect_error("unknown light type 'photometric' (sciray supports: ambient, distant, sphere, spot, quad, hdri)");
+  CHECK(ospNewMaterial("velvet") == nullptr);
+  api.expect_error("unknown material type 'velvet'");
+
+  OSPLight quad = ospNewLight("quad");
+  ospSetVec3f(quad, "edge2", 1.f, 0.f, 0.f);  // parallel to the default edge1
+  ospCommit(quad);
+  api.expect_error("quad light: parameter 'edge1' and 'edge2' must be finite and span a parallelogram");
+  OSPLight spot = ospNewLight("spot");
+  ospSetFloat(spot, "openingAngle", -5.f);
+  ospCommit(spot);
+  api.expect_error("spot light: parameter 'openingAngle' must be in (0, 360] degrees");
+  OSPLight hdri = ospNewLight("hdri");
+  ospCommit(hdri);
+  api.expect_error("hdri light: required parameter 'map'");
+  OSPLight sphere = ospNewLight("sphere");
+  ospSetString(sphere, "radius", "big");
+  ospCommit(sphere);
+  api.expect_error("parameter 'radius' must be a float, got string");
+
+  OSPMaterial principled = ospNewMaterial("principled");
+  ospSetFloat(principled, "metallic", 1.5f);
+  ospCommit(principled);
+  api.expect_error("principled material: parameter 'metallic' must be in [0, 1]");
+  OSPMaterial glass = ospNewMaterial("glass");
+  ospSetFloat(glass, "eta", std::nanf(""));
+  ospCommit(glass);
+  api.expect_error("glass material: parameter 'eta' must be positive");
+  OSPMaterial metal = ospNewMaterial("metal");
+  ospSetFloat(metal, "ior", 1.f);
+  ospCommit(metal);
+  api.expect_error("parameter 'ior' (a spectral array) is not supported; pass RGB 'eta' and 'k'");
+
+  OSPTexture texture = ospNewTexture("texture2d");
+  const float texels[4] = {1, 1, 1, 1};
+  OSPData data = ospNewSharedData2D(texels, OSP_FLOAT, 2, 2);
+  ospSetObject(texture, "data", data);
+  ospSetInt(texture, "format", OSP_TEXTURE_RGB8);
+  ospCommit(texture);
+  api.expect_error("texture2d texture: parameter 'data' holds float elements but 'format' 3 needs OSP_VEC3UC");
+  CHECK(api.messages.errors == std::vector<std::string>{});
+  ospSetInt(texture, "format", OSP_TEXTURE_R32F);
+  ospCommit(texture);
+  CHECK(api.messages.errors == std::vector<std::string>{});
+  OSPMaterial textured = ospNewMaterial("obj");
+  ospSetObject(textured, "map_kd", texture);
+  ospCommit(textured);
+  api.expect_error("parameter 'map_kd': only volume textures are supported as maps yet");
+
+  OSPRenderer renderer = ospNewRenderer("scivis");
+  ospSetInt(renderer, "aoSamples", -1);
+  ospCommit(renderer);
+  api.expect_error("scivis renderer: parameter 'aoSamples' must not be negative");
+  ospRemoveParam(renderer, "aoSamples");
+  ospSetInt(renderer, "pixelFilter", 9);
+  ospCommit(renderer);
+  api.expect_error("'pixelFilter' must be OSP_PIXELFILTER_POINT (0)");
+  OSPRenderer pathtracer = ospNewRenderer("pathtracer");
+  ospSetFloat(pathtracer, "maxContribution", 0.f);
+  ospCommit(pathtracer);
+  api.expect_error("pathtracer renderer: parameter 'maxContribution' must be positive");
+
+  for (OSPObject o : std::initializer_list<OSPObject>{quad, spot, hdri, sphere, principled, glass, metal, texture,
+                                                      textured, renderer, pathtracer})
+    ospRelease(o);
+}
