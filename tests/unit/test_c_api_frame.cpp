@@ -89,7 +89,8 @@ struct SphereScene {
   SphereScene(const SphereScene&) = delete;
   SphereScene& operator=(const SphereScene&) = delete;
   ~SphereScene() {
-    for (OSPObject o : std::initializer_list<OSPObject>{geometry, model, group, instance, world, camera, renderer, light})
+    for (OSPObject o :
+         std::initializer_list<OSPObject>{geometry, model, group, instance, world, camera, renderer, light})
       ospRelease(o);
   }
 
@@ -173,9 +174,10 @@ TEST_CASE("frame buffer: normal, albedo and id channels map as OSPRay lays them 
 
   OSPFrameBuffer plain = ospNewFrameBuffer(4, 4, OSP_FB_RGBA8, OSP_FB_COLOR | (1u << 12));
   CHECK(api.messages.any_containing(api.messages.status, "channel bits 4096"));
-  for (const auto& [channel, name] : {std::pair{OSP_FB_NORMAL, "OSP_FB_NORMAL"}, {OSP_FB_ALBEDO, "OSP_FB_ALBEDO"},
-                                      {OSP_FB_ID_PRIMITIVE, "OSP_FB_ID_PRIMITIVE"}, {OSP_FB_ID_OBJECT, "OSP_FB_ID_OBJECT"},
-                                      {OSP_FB_ID_INSTANCE, "OSP_FB_ID_INSTANCE"}}) {
+  for (const auto& [channel, name] :
+       {std::pair{OSP_FB_NORMAL, "OSP_FB_NORMAL"}, {OSP_FB_ALBEDO, "OSP_FB_ALBEDO"},
+        {OSP_FB_ID_PRIMITIVE, "OSP_FB_ID_PRIMITIVE"}, {OSP_FB_ID_OBJECT, "OSP_FB_ID_OBJECT"},
+        {OSP_FB_ID_INSTANCE, "OSP_FB_ID_INSTANCE"}}) {
     CHECK(ospMapFrameBuffer(plain, channel) == nullptr);
     api.expect_error(std::string("cannot map ") + name + ": it was not created with it");
   }

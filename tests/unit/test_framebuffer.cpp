@@ -288,7 +288,8 @@ TEST_CASE("pixel filters: offsets distributed as the filter, the centre for u = 
   CHECK(FilterSampler::of(PixelFilter::point).sample(0.1f, 0.9f).x == 0.f);
   CHECK(FilterSampler::of(PixelFilter::box).sample(0.1f, 0.9f).x == Approx(-0.4f));
   CHECK(FilterSampler::of(PixelFilter::box).sample(0.1f, 0.9f).y == Approx(0.4f));
-  for (PixelFilter filter : {PixelFilter::box, PixelFilter::gauss, PixelFilter::mitchell, PixelFilter::blackman_harris}) {
+  for (PixelFilter filter :
+       {PixelFilter::box, PixelFilter::gauss, PixelFilter::mitchell, PixelFilter::blackman_harris}) {
     INFO("filter " << static_cast<int>(filter));
     const FilterSampler& sampler = FilterSampler::of(filter);
     const float radius = filter_radius(filter);
@@ -353,10 +354,10 @@ struct PatternRenderer {
     simd::store<Arch>(y, ray.org.y);
     simd::store<Arch>(pixel, index.pixel);
     for (int i = 0; i < W; ++i) {
-      const float base = checkerboard ? static_cast<float>((static_cast<int>(std::floor((x[i] + 0.5f) * image_size / 4)) +
-                                                            static_cast<int>(std::floor((y[i] + 0.5f) * image_size / 4))) & 1)
-                                      : 0.5f + 0.2f * x[i];
-      const float noise = unit_float(hash32(hash32(static_cast<std::uint32_t>(pixel[i])) ^ (index.sample * 0x9e3779b9U)));
+      const auto square = [&](float v) { return static_cast<int>(std::floor((v + 0.5f) * image_size / 4)); };
+      const float base = checkerboard ? static_cast<float>((square(x[i]) + square(y[i])) & 1) : 0.5f + 0.2f * x[i];
+      const auto seed = hash32(static_cast<std::uint32_t>(pixel[i])) ^ (index.sample * 0x9e3779b9U);
+      const float noise = unit_float(hash32(seed));
       value[i] = base + (x[i] < 0.f ? noise_left : noise_right) * (noise - 0.5f);
     }
     PixelSample<Arch> out;

@@ -76,8 +76,10 @@ public:
     int log2_width = 0;  // ceil(log2(width))
     while ((std::uint64_t{1} << log2_width) < static_cast<std::uint64_t>(width)) ++log2_width;
     row_shift_ = 31 + log2_width;
-    row_magic_ = ((std::uint64_t{1} << row_shift_) + static_cast<std::uint64_t>(width) - 1) / static_cast<std::uint64_t>(width);
-    const auto tiles = static_cast<std::size_t>(tiles_x_) * static_cast<std::size_t>((height + tile_size - 1) / tile_size);
+    const auto w = static_cast<std::uint64_t>(width);
+    row_magic_ = ((std::uint64_t{1} << row_shift_) + w - 1) / w;
+    const int tiles_y = (height + tile_size - 1) / tile_size;
+    const auto tiles = static_cast<std::size_t>(tiles_x_) * static_cast<std::size_t>(tiles_y);
     tile_frames_.assign(tiles, 0);
     tile_error_.assign(tiles, std::numeric_limits<float>::infinity());
     if (channels_ & channel_accum) accum_.assign(4 * n, 0.f);
@@ -137,7 +139,8 @@ public:
   void finish_tile(int tile) {
     if (!has(channel_accum)) return;
     const std::uint32_t frames = ++tile_frames_[static_cast<std::size_t>(tile)];
-    if (has(channel_variance) && frames >= 2) tile_error_[static_cast<std::size_t>(tile)] = estimate_tile_error(tile, frames);
+    if (has(channel_variance) && frames >= 2)
+      tile_error_[static_cast<std::size_t>(tile)] = estimate_tile_error(tile, frames);
   }
   /// Called once the frame is done (after finish_tile of every tile it rendered).
   void finish_frame() { frames_ = has(channel_accum) ? frames_ + 1 : 1; }
@@ -148,7 +151,8 @@ public:
   /// Each pixel is written by one thread per frame, so no synchronisation is needed and
   /// results do not depend on the thread count.
   template <class Arch>
-  void write_packet(const std::int32_t* pixel, const PixelSample<Arch>& sample, const simd::Float<Arch>& depth_projected) {
+  void write_packet(const std::int32_t* pixel, const PixelSample<Arch>& sample,
+                    const simd::Float<Arch>& depth_projected) {
     constexpr int W = simd::width<Arch>;
     alignas(64) float rgba[4][W];
     simd::store<Arch>(rgba[0], sample.color.x);
@@ -268,7 +272,7 @@ private:
     double sum = 0.0;
     for (int y = y0; y < std::min(y0 + tile_size, height_); ++y)
       for (int x = x0; x < std::min(x0 + tile_size, width_); ++x) {
-        const std::size_t p = static_cast<std::size_t>(y) * static_cast<std::size_t>(width_) + static_cast<std::size_t>(x);
+        const auto p = static_cast<std::size_t>(y) * static_cast<std::size_t>(width_) + static_cast<std::size_t>(x);
         const float* acc = &accum_[4 * p];
         const double odd = odd_luminance_[p];
         const double all = luminance(acc[0], acc[1], acc[2]);

@@ -36,7 +36,9 @@ class Tonemapper {
 public:
   explicit Tonemapper(const TonemapperParams& p = {}) : exposure_(p.exposure), aces_(p.aces_color) {
     const auto check = [](bool ok, const char* name, const char* requirement, float value) {
-      if (!ok) throw Error(std::string("tonemapper: '") + name + "' must be " + requirement + ", got " + std::to_string(value));
+      if (!ok)
+        throw Error(std::string("tonemapper: '") + name + "' must be " + requirement + ", got " +
+                    std::to_string(value));
     };
     check(p.exposure >= 0.f && std::isfinite(p.exposure), "exposure", "finite and not negative", p.exposure);
     check(p.contrast > 0.f && std::isfinite(p.contrast), "contrast", "positive", p.contrast);

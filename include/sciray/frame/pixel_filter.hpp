@@ -63,8 +63,10 @@ inline float filter_profile(PixelFilter filter, float x) {
     case PixelFilter::mitchell: {
       constexpr float b = 1.f / 3.f, c = 1.f / 3.f;
       const float x2 = ax * ax, x3 = x2 * ax;
-      if (ax < 1.f) return ((12.f - 9.f * b - 6.f * c) * x3 + (-18.f + 12.f * b + 6.f * c) * x2 + (6.f - 2.f * b)) / 6.f;
-      return ((-b - 6.f * c) * x3 + (6.f * b + 30.f * c) * x2 + (-12.f * b - 48.f * c) * ax + (8.f * b + 24.f * c)) / 6.f;
+      if (ax < 1.f)
+        return ((12.f - 9.f * b - 6.f * c) * x3 + (-18.f + 12.f * b + 6.f * c) * x2 + (6.f - 2.f * b)) / 6.f;
+      return ((-b - 6.f * c) * x3 + (6.f * b + 30.f * c) * x2 + (-12.f * b - 48.f * c) * ax + (8.f * b + 24.f * c)) /
+             6.f;
     }
     case PixelFilter::blackman_harris: {
       const float t = 2.f * std::numbers::pi_v<float> * (x / (2.f * r) + 0.5f);
@@ -131,10 +133,9 @@ public:
 
   /// The sampler of `filter`, built once.
   static const FilterSampler& of(PixelFilter filter) {
-    static const std::array<FilterSampler, 5> samplers{FilterSampler(PixelFilter::point), FilterSampler(PixelFilter::box),
-                                                       FilterSampler(PixelFilter::gauss),
-                                                       FilterSampler(PixelFilter::mitchell),
-                                                       FilterSampler(PixelFilter::blackman_harris)};
+    static const std::array<FilterSampler, 5> samplers{
+        FilterSampler(PixelFilter::point), FilterSampler(PixelFilter::box), FilterSampler(PixelFilter::gauss),
+        FilterSampler(PixelFilter::mitchell), FilterSampler(PixelFilter::blackman_harris)};
     return samplers[static_cast<std::size_t>(filter)];
   }
 

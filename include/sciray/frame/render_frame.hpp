@@ -135,7 +135,8 @@ std::uint32_t render_frame(const Renderer& renderer, const CameraT& camera, Fram
             const M active = simd::load<Arch>(inside) > F(0.f);
             const simd::Int<Arch> pixels = simd::load<Arch>(pixel);
             const CameraSequence<Arch> sequence(pixels);
-            const F pixel_x = F(static_cast<float>(x0) + 0.5f) + lane_dx, pixel_y = F(static_cast<float>(y0) + 0.5f) + lane_dy;
+            const F pixel_x = F(static_cast<float>(x0) + 0.5f) + lane_dx;
+            const F pixel_y = F(static_cast<float>(y0) + 0.5f) + lane_dy;
             // Sample s of every lane, and its projected depth.
             F projected;
             const auto render_sample = [&](std::uint32_t s) {
@@ -143,8 +144,8 @@ std::uint32_t render_frame(const Renderer& renderer, const CameraT& camera, Fram
               const CameraSamples<F> cs = sequence(sample_index);
               F offset_x, offset_y;
               filter.template sample<Arch>(cs.film_x, cs.film_y, offset_x, offset_y);
-              const auto ray = camera.generate((pixel_x + offset_x) * F(inv_width), (pixel_y + offset_y) * F(inv_height),
-                                               cs.lens_u, cs.lens_v);
+              const auto ray = camera.generate((pixel_x + offset_x) * F(inv_width),
+                                               (pixel_y + offset_y) * F(inv_height), cs.lens_u, cs.lens_v);
               PixelSample<Arch> one = renderer.render(ray, active, SampleIndex<Arch>{pixels, sample_index});
               projected = camera.projected_depth(ray, one.t);
               return one;

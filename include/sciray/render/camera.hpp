@@ -33,7 +33,7 @@ struct PerspectiveCamera {
   float fovy = 60.f;   ///< full vertical field of view of one eye, degrees
   float aspect = 1.f;  ///< width / height of the whole image
   float aperture_radius = 0.f;  ///< apertureRadius: 0 is a pinhole
-  float focus_distance = 1.f;   ///< focusDistance: depth (along `direction`) that stays sharp; stereo eyes converge there
+  float focus_distance = 1.f;   ///< focusDistance: depth along `direction` that stays sharp, where stereo eyes converge
   StereoMode stereo_mode = StereoMode::none;
   float interpupillary_distance = 0.0635f;  ///< interpupillaryDistance
 };
