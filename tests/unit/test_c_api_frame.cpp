@@ -312,3 +312,50 @@ TEST_CASE("cameras: depth of field, stereo eyes and the panoramic camera through
     api.expect_error("sciray supports: perspective, orthographic, panoramic");
   }
 }
+
+TEST_CASE("renderer frame settings: pixelSamples, pixelFilter and varianceThreshold", "[c_api][frame]") {
+  ApiFixture api;
+  SphereScene scene({0.f, 0.f, 0.f}, "perspective");
+  constexpr int size = 48;
+  const auto frames = [&](int count, std::uint32_t channels = OSP_FB_COLOR | OSP_FB_ACCUM) {
+    OSPFrameBuffer fb = ospNewFrameBuffer(size, size, OSP_FB_RGBA32F, channels);
+    for (int f = 0; f < count; ++f) ospRenderFrameBlocking(fb, scene.renderer, scene.camera, scene.world);
+    auto image = map_channel<float>(fb, OSP_FB_COLOR, 4 * size * size);
+    ospRelease(fb);
+    return image;
+  };
+  // One frame of 4 samples per pixel averages the samples 4 one-sample frames take.
+  const auto four_frames = frames(4);
+  ospSetInt(scene.renderer, "pixelSamples", 4);
+  ospCommit(scene.renderer);
+  const auto one_frame = frames(1);
+  for (std::size_t i = 0; i < one_frame.size(); ++i) REQUIRE(one_frame[i] == Approx(four_frames[i]).margin(1e-5));
+  ospSetInt(scene.renderer, "pixelSamples", 1);
+  ospCommit(scene.renderer);
+  CHECK(one_frame != frames(1));  // one sample at each pixel centre
+
+  // The point filter puts every sample at the pixel centre: more frames change nothing.
+  ospSetInt(scene.renderer, "pixelFilter", OSP_PIXELFILTER_POINT);
+  ospCommit(scene.renderer);
+  CHECK(frames(4) == frames(1));
+  ospRemoveParam(scene.renderer, "pixelFilter");
+
+  // With a variance channel and a generous varianceThreshold, every tile converges after
+  // two frames and a third leaves the image as it was; without one the third refines it.
+  const std::uint32_t variance = OSP_FB_COLOR | OSP_FB_ACCUM | OSP_FB_VARIANCE;
+  ospSetFloat(scene.renderer, "varianceThreshold", 0.5f);
+  ospCommit(scene.renderer);
+  CHECK(frames(3, variance) == frames(2, variance));
+  ospSetFloat(scene.renderer, "varianceThreshold", 0.f);
+  ospCommit(scene.renderer);
+  CHECK(frames(3, variance) != frames(2, variance));
+  CHECK(api.messages.errors.empty());
+
+  ospSetInt(scene.renderer, "pixelSamples", 0);
+  ospCommit(scene.renderer);
+  api.expect_error("'pixelSamples' must be at least 1");
+  ospSetInt(scene.renderer, "pixelSamples", 1);
+  ospSetInt(scene.renderer, "pixelFilter", 7);
+  ospCommit(scene.renderer);
+  api.expect_error("'pixelFilter' must be OSP_PIXELFILTER_POINT (0)");
+}
