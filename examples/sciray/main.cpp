@@ -237,6 +237,7 @@ int render(const RenderOptions& opt) {
     sciray::shim::EngineWorld::GroupType& target = scene.instances.empty() ? world : *group;
     // --material k shades the k-th geometry added; the last one shades the rest.
     std::vector<sciray::Material> materials;
+    if (scene.material && opt.materials.empty()) materials.push_back(*scene.material);
     for (std::size_t i = 0; i < opt.materials.size(); ++i)
       materials.push_back(sciray_tool::material_from_json(
           sciray_tool::parse_json_argument(opt.materials[i], "--material"), "--material " + std::to_string(i + 1)));

@@ -28,6 +28,7 @@
 #include "sciray/math/vec.hpp"
 #include "sciray/render/camera.hpp"
 #include "sciray/render/light.hpp"
+#include "sciray/render/material.hpp"
 
 namespace sciray::testing {
 
@@ -332,7 +333,8 @@ inline PerspectiveCamera cornell_box_camera(float aspect = 1.f) {
 /// spheres), "spheres_100k_mesh" (the 100k spheres tessellated, 80 triangles each),
 /// "streamlines" (2,000 ABC-flow streamlines of 500 points), "gravity_spheres_128" and
 /// "gravity_spheres_512" (float volumes of 8 point masses' potential), "perlin_128" (a
-/// float volume of Perlin noise), "instanced_boxes" (a group
+/// float volume of Perlin noise), "transparency_stack" (16 squares behind each other
+/// with an obj material of opacity 0.5), "instanced_boxes" (a group
 /// of 8 boxes placed 10,000 times), "instanced_torus" (the 1M-triangle torus placed
 /// 10,000 times), or a real mesh of the shared data ("bunny", "lucy", "horse",
 /// "turbineblade", "footbones") read from `data_dir`.
@@ -348,7 +350,26 @@ struct StandardScene {
   std::optional<io::VolumeFile> volume;
   std::optional<PerspectiveCamera> camera;  ///< empty: frame the bounds
   std::vector<Light> lights;                ///< empty: the renderer's default lights
+  /// The material of every geometry of the scene (none: own colours).
+  std::optional<Material> material;
 };
+
+/// `layers` parallel unit squares 0.1 apart along z, coloured along a colour map, for a
+/// material of opacity below 1: a ray passes every layer (transparency and maxPathLength).
+inline MeshData transparency_stack(int layers) {
+  MeshData mesh;
+  mesh.vertices_per_face = 4;
+  for (int k = 0; k < layers; ++k) {
+    const float z = 0.1f * static_cast<float>(k), shift = 0.05f * static_cast<float>(k);
+    const auto first = static_cast<std::uint32_t>(mesh.vertex_count());
+    for (const auto& [x, y] : {std::pair{0.f, 0.f}, {1.f, 0.f}, {1.f, 1.f}, {0.f, 1.f}})
+      mesh.positions.insert(mesh.positions.end(), {x + shift, y + shift, z});
+    mesh.indices.insert(mesh.indices.end(), {first, first + 1, first + 2, first + 3});
+    const Vec3f c = colormap(static_cast<float>(k) / static_cast<float>(std::max(layers - 1, 1)));
+    mesh.face_colors.insert(mesh.face_colors.end(), {c.x, c.y, c.z, 1.f});
+  }
+  return mesh;
+}
 
 /// A 100 × 100 grid of transforms spaced `spacing` apart, each turned about y by a
 /// different angle.
@@ -376,7 +397,13 @@ inline StandardScene standard_scene(std::string_view name, const std::filesystem
   else if (name == "gravity_spheres_512") scene.volume = gravity_spheres_volume(512);
   else if (name == "perlin_128") scene.volume = perlin_noise_volume(128);
   else if (name == "instanced_torus") scene.mesh = wavy_torus(1'000'000), scene.instances = instance_grid(3.f);
-  else if (name == "instanced_boxes") {
+  else if (name == "transparency_stack") {
+    scene.mesh = transparency_stack(16);
+    ObjMaterial half_opaque;
+    half_opaque.kd = {1.f, 1.f, 1.f};
+    half_opaque.d = 0.5f;
+    scene.material = half_opaque;
+  } else if (name == "instanced_boxes") {
     for (int k = 0; k < 8; ++k) {
       const Vec3f corner{0.6f * (k & 1), 0.6f * ((k >> 1) & 1) + 0.3f * (k & 1), 0.6f * (k >> 2)};
       scene.boxes.push_back({corner, corner + Vec3f{0.4f, 0.25f + 0.1f * k, 0.4f}});
@@ -390,7 +417,8 @@ inline StandardScene standard_scene(std::string_view name, const std::filesystem
   if (!scene.mesh && !scene.spheres && !scene.curves && scene.boxes.empty() && !scene.volume)
     throw Error("unknown standard scene '" + std::string(name) +
                 "' (torus_1M, torus_5M, torus_20M, cornell_box, spheres_100k, spheres_100k_mesh, spheres_1M, "
-                "spheres_10M, streamlines, instanced_boxes, instanced_torus, gravity_spheres_128, gravity_spheres_512, "
+                "spheres_10M, streamlines, transparency_stack, instanced_boxes, instanced_torus, gravity_spheres_128, "
+                "gravity_spheres_512, "
                 "perlin_128, bunny, lucy, "
                 "horse, turbineblade, footbones)");
   return scene;
