@@ -97,8 +97,9 @@ private:
 
   /// x^e for x > 0 (other lanes get a finite value the caller discards). Packets take
   /// exp2(e log2 x) with a log2 of their own: xsimd 8.1's log and pow do not compile for
-  /// AVX-512BW. log2 x = exponent + 2 atanh(t) / ln 2 with t = (m - 1) / (m + 1) for the
-  /// mantissa m in [sqrt(1/2), sqrt(2)), |t| < 0.172: five odd terms leave 4e-10.
+  /// AVX-512BW without optimization (-O0: its integer select casts fail).
+  /// log2 x = exponent + 2 atanh(t) / ln 2 with t = (m - 1) / (m + 1) for the mantissa m
+  /// in [sqrt(1/2), sqrt(2)), |t| < 0.172: five odd terms leave 4e-10.
   template <class T>
   static T pow_positive(const T& x, float e) {
     if constexpr (std::is_same_v<T, float>) {
