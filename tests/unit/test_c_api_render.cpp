@@ -196,6 +196,34 @@ TEST_CASE("an hdri light of a texture2d is the background scivis shows", "[c_api
   CHECK(sky[0] == Approx(0.f).margin(1e-6));
   CHECK(sky[2] == Approx(1.f).epsilon(1e-5));
   CHECK(api.messages.errors == std::vector<std::string>{});
+
+  // A backplate covers the screen instead: a 2x1 texture, red on the left, green on the right.
+  const float plate_texels[6] = {1.f, 0.f, 0.f, 0.f, 1.f, 0.f};
+  OSPTexture plate = ospNewTexture("texture2d");
+  ospSetInt(plate, "format", OSP_TEXTURE_RGB32F);
+  ospSetInt(plate, "filter", OSP_TEXTURE_FILTER_NEAREST);
+  OSPData plate_data = ospNewSharedData2D(plate_texels, OSP_VEC3F, 2, 1);
+  ospSetObject(plate, "data", plate_data);
+  ospRelease(plate_data);
+  ospCommit(plate);
+  for (const char* type : {"scivis", "pathtracer"}) {
+    INFO(type);
+    OSPRenderer renderer = ospNewRenderer(type);
+    ospSetObject(renderer, "map_backplate", plate);
+    ospSetInt(renderer, "pixelFilter", OSP_PIXELFILTER_POINT);
+    ospCommit(renderer);
+    OSPFrameBuffer fb = ospNewFrameBuffer(8, 8, OSP_FB_RGBA32F, OSP_FB_COLOR);
+    ospRenderFrameBlocking(fb, renderer, scene.camera, scene.world);
+    const auto* rgba = static_cast<const float*>(ospMapFrameBuffer(fb, OSP_FB_COLOR));
+    CHECK(rgba[4 * (3 * 8 + 1) + 0] == 1.f);  // row 3, column 1: left half
+    CHECK(rgba[4 * (3 * 8 + 6) + 1] == 1.f);  // column 6: right half
+    CHECK(rgba[4 * (3 * 8 + 6) + 0] == 0.f);
+    ospUnmapFrameBuffer(rgba, fb);
+    ospRelease(fb);
+    ospRelease(renderer);
+  }
+  CHECK(api.messages.errors == std::vector<std::string>{});
+  ospRelease(plate);
   ospRelease(scivis);
   ospRelease(map);
 }

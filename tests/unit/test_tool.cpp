@@ -250,3 +250,50 @@ TEST_CASE("sciray info and SCIRAY_ISA", "[tool]") {
   const Run bad_env = run_tool("info; SCIRAY_ISA=mmx " SCIRAY_TOOL " info");
   CHECK_THAT(bad_env.output, Catch::Contains("SCIRAY_ISA: unknown ISA 'mmx'"));
 }
+
+TEST_CASE("sciray render: the path tracer, ao and scivis with materials and lights", "[tool][renderers]") {
+  const auto out = scratch("cornell_pt.pfm");
+  const Run run = run_tool("render builtin:cornell_box --renderer pathtracer --spp 16 --size 32x32 --json -o " +
+                           out.string());
+  INFO(run.output);
+  REQUIRE(run.exit_code == 0);
+  CHECK(nlohmann::json::parse(run.output)["renderer"] == "pathtracer");
+  const auto image = sciray::io::read_pfm(out);
+  // Lit only by the ceiling's quad light: red wall on the left, green on the right, and
+  // the light itself brighter than any wall.
+  CHECK(image.at(1, 16, 0) > 2 * image.at(1, 16, 1));
+  CHECK(image.at(30, 16, 1) > 2 * image.at(30, 16, 0));
+
+  // A principled metal on the bunny under a sphere light, through the ao renderer too.
+  const auto metal = scratch("bunny_metal.pfm");
+  const Run shaded = run_tool(
+      "render " SCIRAY_DATA_DIR "/meshes/bunny.ply --renderer pathtracer --size 24x24 "
+      "--material '{\"type\":\"principled\",\"metallic\":1,\"roughness\":0.3,\"baseColor\":[0.9,0.6,0.2]}' "
+      "--light '{\"type\":\"sphere\",\"position\":[0,1,1],\"radius\":0.1,\"intensity\":2}' "
+      "--light '{\"type\":\"ambient\",\"intensity\":0.3}' -o " + metal.string());
+  INFO(shaded.output);
+  CHECK(shaded.exit_code == 0);
+  const Run ao = run_tool("render " SCIRAY_DATA_DIR "/molecules/2LYZ.pdb --renderer ao --ao-samples 2 --size 24x24 -o " +
+                          scratch("lysozyme_ao.png").string());
+  INFO(ao.output);
+  CHECK(ao.exit_code == 0);
+}
+
+TEST_CASE("sciray render: bad renderers, materials and lights are named", "[tool][renderers][errors]") {
+  const auto error_of = [](const std::string& arguments) {
+    const Run run = run_tool("render builtin:cornell_box --size 8x8 -o " + scratch("bad.png").string() + " " + arguments);
+    CHECK(run.exit_code == 1);
+    return run.output;
+  };
+  CHECK_THAT(error_of("--renderer raytracer"), Catch::Contains("--renderer: expected scivis, ao or pathtracer"));
+  CHECK_THAT(error_of("--material '{\"type\":\"obj\",\"kd\":[1,2]}'"),
+             Catch::Contains("--material 1: \"kd\" must be a number or an array of 3 numbers"));
+  CHECK_THAT(error_of("--material '{\"type\":\"obj\",\"kdd\":0.5}'"), Catch::Contains("unknown parameter \"kdd\""));
+  CHECK_THAT(error_of("--material '{\"type\":\"metal\",\"roughness\":2}'"),
+             Catch::Contains("metal material: parameter 'roughness' must be in [0, 1]"));
+  CHECK_THAT(error_of("--light '{\"type\":\"spot\",\"openingAngle\":0}'"),
+             Catch::Contains("spot light: parameter 'openingAngle' must be in (0, 360] degrees"));
+  CHECK_THAT(error_of("--light '{\"type\":\"sun\"}'"), Catch::Contains("unknown light type 'sun'"));
+  CHECK_THAT(error_of("--light '{not json'"), Catch::Contains("--light: invalid JSON"));
+  CHECK_THAT(error_of("--spp 0"), Catch::Contains("'pixelSamples' must be at least 1"));
+}

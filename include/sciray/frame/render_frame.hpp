@@ -144,9 +144,10 @@ std::uint32_t render_frame(const Renderer& renderer, const CameraT& camera, Fram
               const CameraSamples<F> cs = sequence(sample_index);
               F offset_x, offset_y;
               filter.template sample<Arch>(cs.film_x, cs.film_y, offset_x, offset_y);
-              const auto ray = camera.generate((pixel_x + offset_x) * F(inv_width),
-                                               (pixel_y + offset_y) * F(inv_height), cs.lens_u, cs.lens_v);
-              PixelSample<Arch> one = renderer.render(ray, active, SampleIndex<Arch>{pixels, sample_index});
+              const F screen_x = (pixel_x + offset_x) * F(inv_width), screen_y = (pixel_y + offset_y) * F(inv_height);
+              const auto ray = camera.generate(screen_x, screen_y, cs.lens_u, cs.lens_v);
+              PixelSample<Arch> one =
+                  renderer.render(ray, active, SampleIndex<Arch>{pixels, sample_index, screen_x, screen_y});
               projected = camera.projected_depth(ray, one.t);
               return one;
             };

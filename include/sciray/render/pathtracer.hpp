@@ -113,7 +113,12 @@ public:
         const float t = has_surface[i] ? simd::lane(hit.t, i) : inf;
         add_lights_along(p, t, depth);
         if (!has_surface[i]) {
-          if (depth == 0) p.radiance = p.radiance + params_.background_color, p.alpha = params_.background_alpha;
+          if (depth == 0) {
+            const Vec3f background = params_.backplate ? params_.backplate->sample(simd::lane(index.screen_x, i),
+                                                                                   simd::lane(index.screen_y, i))
+                                                       : params_.background_color;
+            p.radiance = p.radiance + p.throughput * background, p.alpha = params_.background_alpha;
+          }
           p.alive = false;
           continue;
         }

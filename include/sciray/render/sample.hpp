@@ -13,6 +13,9 @@ template <class Arch>
 struct SampleIndex {
   simd::Int<Arch> pixel;
   std::uint32_t sample = 0;
+  /// Where the camera sample lies on the screen, [0,1]^2 from the bottom left (for
+  /// screen-space backgrounds).
+  simd::Float<Arch> screen_x = simd::Float<Arch>(0.5f), screen_y = simd::Float<Arch>(0.5f);
 };
 
 /// A renderer's result for a packet of camera rays, one value per frame buffer channel.

@@ -105,7 +105,8 @@ public:
       // Lanes that missed see the background; lanes that hit continue through what the
       // surface lets pass, while that is worth tracing.
       const M missed = live & !hit.hit;
-      if (simd::any(missed)) color = color + select(missed, transmittance * background(ray, missed), Vec3<F>(splat(0.f)));
+      if (simd::any(missed))
+        color = color + select(missed, transmittance * background(ray, missed, index), Vec3<F>(splat(0.f)));
       transmittance = select(missed, transmittance, transmittance * pass);
       const F left = simd::max(simd::max(transmittance.x, transmittance.y), transmittance.z);
       live = surfaces & (left > F(params_.min_contribution)) & M(depth + 1 < params_.max_path_length);
@@ -122,13 +123,16 @@ public:
   }
 
 private:
-  /// The background colour, or where the world has a visible `hdri` light, the map.
-  Vec3<F> background(const Ray<F>& ray, const M& lanes) const {
-    if (!environment_) return Vec3<F>(params_.background_color);
+  /// The background: `map_backplate` at the sample's screen position, else a visible
+  /// `hdri` light's map in the ray's direction, else the background colour.
+  Vec3<F> background(const Ray<F>& ray, const M& lanes, const SampleIndex<Arch>& index) const {
+    if (!environment_ && !params_.backplate) return Vec3<F>(params_.background_color);
     alignas(64) float rgb[3][W];
     for (int i = 0; i < W; ++i) {
       Vec3f c = params_.background_color;
-      if (simd::lane(lanes, i)) {
+      if (simd::lane(lanes, i) && params_.backplate) {
+        c = params_.backplate->sample(simd::lane(index.screen_x, i), simd::lane(index.screen_y, i));
+      } else if (simd::lane(lanes, i)) {
         const Vec3f dir{simd::lane(ray.dir.x, i), simd::lane(ray.dir.y, i), simd::lane(ray.dir.z, i)};
         c = environment_->lookup(normalize(dir)) * environment_->color * environment_->intensity;
       }
