@@ -13,8 +13,12 @@ namespace sciray_test {
 struct Messages {
   std::vector<std::string> errors, status;
   std::vector<OSPError> codes;
-  bool any_error_containing(const std::string& s) const {
-    for (const auto& e : errors)
+  bool any_error_containing(const std::string& s) const { return any_containing(errors, s); }
+  bool any_status_containing(const std::string& s) const { return any_containing(status, s); }
+
+private:
+  static bool any_containing(const std::vector<std::string>& list, const std::string& s) {
+    for (const auto& e : list)
       if (e.find(s) != std::string::npos) return true;
     return false;
   }

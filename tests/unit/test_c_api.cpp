@@ -17,52 +17,14 @@
 
 #include "sciray/io/ply.hpp"
 #include "sciray/shim/engine.hpp"
+#include "support/api_fixture.hpp"
 
 extern "C" int sciray_header_check(void);
 
 namespace {
 
-struct Messages {
-  std::vector<std::string> errors, status;
-  std::vector<OSPError> codes;
-  bool any_error_containing(const std::string& s) const {
-    for (const auto& e : errors)
-      if (e.find(s) != std::string::npos) return true;
-    return false;
-  }
-};
-
-/// A fresh current device whose callbacks collect messages.
-struct ApiFixture {
-  Messages messages;
-  OSPDevice device;
-
-  ApiFixture() {
-    REQUIRE(ospInit() == OSP_NO_ERROR);
-    device = ospGetCurrentDevice();
-    ospDeviceSetErrorCallback(
-        device,
-        [](void* user, OSPError code, const char* text) {
-          static_cast<Messages*>(user)->errors.emplace_back(text);
-          static_cast<Messages*>(user)->codes.push_back(code);
-        },
-        &messages);
-    ospDeviceSetStatusCallback(
-        device, [](void* user, const char* text) { static_cast<Messages*>(user)->status.emplace_back(text); },
-        &messages);
-  }
-  ~ApiFixture() {
-    ospDeviceRelease(device);
-    ospShutdown();
-  }
-
-  /// Checks that an error containing `fragment` was reported, then forgets the errors.
-  void expect_error(const std::string& fragment) {
-    INFO("expected an error containing: " << fragment);
-    CHECK(messages.any_error_containing(fragment));
-    messages.errors.clear();
-  }
-};
+using sciray_test::ApiFixture;
+using sciray_test::Messages;
 
 /// The bunny as an OSPRay scene: mesh, model with an obj material, group, instance,
 /// world with an ambient and a distant light, a perspective camera, scivis.

@@ -13,45 +13,11 @@
 #include <ospray/ospray_util.h>
 
 #include "sciray/frame/image_ops.hpp"
+#include "support/api_fixture.hpp"
 
 namespace {
 
-struct Messages {
-  std::vector<std::string> errors, status;
-  bool any_containing(const std::vector<std::string>& list, const std::string& s) const {
-    for (const auto& e : list)
-      if (e.find(s) != std::string::npos) return true;
-    return false;
-  }
-};
-
-/// A fresh current device whose callbacks collect messages.
-struct ApiFixture {
-  Messages messages;
-  OSPDevice device;
-
-  ApiFixture() {
-    REQUIRE(ospInit() == OSP_NO_ERROR);
-    device = ospGetCurrentDevice();
-    ospDeviceSetErrorCallback(
-        device, [](void* user, OSPError, const char* text) { static_cast<Messages*>(user)->errors.emplace_back(text); },
-        &messages);
-    ospDeviceSetStatusCallback(
-        device, [](void* user, const char* text) { static_cast<Messages*>(user)->status.emplace_back(text); },
-        &messages);
-  }
-  ~ApiFixture() {
-    ospDeviceRelease(device);
-    ospShutdown();
-  }
-
-  /// Checks that an error containing `fragment` was reported, then forgets the errors.
-  void expect_error(const std::string& fragment) {
-    INFO("expected an error containing: " << fragment);
-    CHECK(messages.any_containing(messages.errors, fragment));
-    messages.errors.clear();
-  }
-};
+using sciray_test::ApiFixture;
 
 /// Spheres of radius 1 (one geometry, one model, one instance), ambient light, scivis,
 /// and a camera of the given type at (0, 0, -5) looking down +z (its right is -x).
@@ -138,7 +104,7 @@ TEST_CASE("frame buffer: normal, albedo and id channels map as OSPRay lays them 
   const std::uint32_t all = OSP_FB_COLOR | OSP_FB_DEPTH | OSP_FB_ACCUM | OSP_FB_VARIANCE | OSP_FB_NORMAL |
                             OSP_FB_ALBEDO | OSP_FB_ID_PRIMITIVE | OSP_FB_ID_OBJECT | OSP_FB_ID_INSTANCE;
   OSPFrameBuffer fb = ospNewFrameBuffer(size, size, OSP_FB_RGBA32F, all);
-  CHECK(!api.messages.any_containing(api.messages.status, "channel"));  // every channel is supported
+  CHECK(!api.messages.any_status_containing("channel"));  // every channel is supported
   for (int f = 0; f < 3; ++f) ospRenderFrameBlocking(fb, scene.renderer, scene.camera, scene.world);
   const std::size_t centre = (size / 2) * size + size / 2, corner = 0;
 
@@ -173,7 +139,7 @@ TEST_CASE("frame buffer: normal, albedo and id channels map as OSPRay lays them 
   ospRelease(fb);
 
   OSPFrameBuffer plain = ospNewFrameBuffer(4, 4, OSP_FB_RGBA8, OSP_FB_COLOR | (1u << 12));
-  CHECK(api.messages.any_containing(api.messages.status, "channel bits 4096"));
+  CHECK(api.messages.any_status_containing("channel bits 4096"));
   for (const auto& [channel, name] :
        {std::pair{OSP_FB_NORMAL, "OSP_FB_NORMAL"}, {OSP_FB_ALBEDO, "OSP_FB_ALBEDO"},
         {OSP_FB_ID_PRIMITIVE, "OSP_FB_ID_PRIMITIVE"}, {OSP_FB_ID_OBJECT, "OSP_FB_ID_OBJECT"},
