@@ -11,6 +11,8 @@
 //                 [--no-empty-space-skipping]
 //                 [--renderer scivis|ao|pathtracer] [--spp N] [--shadows] [--ao-samples N] [--ao-distance D]
 //                 [--max-path-length N] [--material JSON]... [--light JSON]... [--background r,g,b,a]
+//                 [--pixel-filter point|box|gauss|mitchell|blackman_harris] [--error-target E] [--tonemap]
+//                 [--aperture R] [--focus D] [--panoramic]
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -112,7 +114,22 @@ struct RenderOptions {
   std::vector<std::string> materials;  ///< JSON (or files), geometry k gets material k (the last one the rest)
   std::vector<std::string> lights;     ///< JSON (or files); replace the default lights
   std::string background;              ///< "r,g,b,a"
+  std::string pixel_filter = "gauss";
+  float error_target = 0.f;  ///< > 0: render up to --frames frames until the estimated error is this
+  bool tonemap = false;
+  float aperture = 0.f;
+  float focus = 1.f;
+  bool panoramic = false;
 };
+
+sciray::PixelFilter parse_pixel_filter(const std::string& name) {
+  const std::pair<const char*, sciray::PixelFilter> filters[] = {
+      {"point", sciray::PixelFilter::point}, {"box", sciray::PixelFilter::box}, {"gauss", sciray::PixelFilter::gauss},
+      {"mitchell", sciray::PixelFilter::mitchell}, {"blackman_harris", sciray::PixelFilter::blackman_harris}};
+  for (const auto& [n, f] : filters)
+    if (name == n) return f;
+  throw sciray::Error("--pixel-filter: expected point, box, gauss, mitchell or blackman_harris, got '" + name + "'");
+}
 
 /// The renderer and its parameters from the options (lights: the scene's or default).
 sciray::shim::RendererConfig renderer_config(const RenderOptions& opt, std::vector<sciray::Light> scene_lights,
@@ -282,13 +299,16 @@ int render(const RenderOptions& opt) {
 
     const float aspect = static_cast<float>(width) / static_cast<float>(height);
     if (scene.camera) scene.camera->aspect = aspect;
-    const sciray::Camera camera = !opt.camera.empty() ? read_camera(opt.camera, aspect)
-                                  : scene.camera      ? *scene.camera
-                                                      : sciray::frame_bounds(world.bounds(), aspect);
+    sciray::PerspectiveCamera view = !opt.camera.empty() ? read_camera(opt.camera, aspect)
+                                     : scene.camera      ? *scene.camera
+                                                         : sciray::frame_bounds(world.bounds(), aspect);
+    view.aperture_radius = opt.aperture;
+    view.focus_distance = opt.focus;
+    sciray::Camera camera = view;
+    if (opt.panoramic) camera = sciray::PanoramicCamera{view.position, view.direction, view.up};
     // Without lights of its own, a scene gets a light from the upper left behind the
     // viewer, as a desk lamp would be, and some ambient light.
     if (scene.lights.empty()) {
-      const auto& view = std::get<sciray::PerspectiveCamera>(camera);
       const sciray::Vec3f forward = normalize(view.direction);
       const sciray::Vec3f right = normalize(cross(forward, view.up));
       const sciray::Vec3f up = cross(right, forward);
@@ -297,11 +317,18 @@ int render(const RenderOptions& opt) {
     const sciray::shim::RendererConfig config = renderer_config(opt, scene.lights, materials);
     sciray::FrameSettings settings;
     settings.pixel_samples = opt.pixel_samples;
+    settings.pixel_filter = parse_pixel_filter(opt.pixel_filter);
     sciray::validate(settings);
+    if (opt.error_target < 0.f || !std::isfinite(opt.error_target))
+      throw sciray::Error("--error-target must be a positive number");
 
-    sciray::FrameBuffer fb(width, height, float_output ? sciray::ColorFormat::rgba32f : sciray::ColorFormat::srgba);
+    sciray::FrameBuffer fb(width, height, float_output ? sciray::ColorFormat::rgba32f : sciray::ColorFormat::srgba,
+                           sciray::channel_color | sciray::channel_depth | sciray::channel_accum |
+                               sciray::channel_variance);
+    if (opt.tonemap) fb.set_image_operations({sciray::Tonemapper()});
     std::vector<double> frame_ms;
-    for (int f = 0; f < opt.frames; ++f) {
+    // With an error target, frames stop once the frame buffer's estimate meets it.
+    for (int f = 0; f < opt.frames && !(opt.error_target > 0.f && fb.variance() <= opt.error_target); ++f) {
       start = Clock::now();
       kernels.render(world, config, camera, fb, nullptr, settings);
       frame_ms.push_back(ms_since(start));
@@ -326,6 +353,8 @@ int render(const RenderOptions& opt) {
               {"boxes", boxes},
               {"instances", world.instance_count()},
               {"renderer", opt.renderer},
+              {"frames", fb.accumulated_frames()},
+              {"estimated_error", std::isfinite(fb.variance()) ? nlohmann::json(fb.variance()) : nlohmann::json()},
               {"pixel_samples", opt.pixel_samples},
               {"volumes", world.volume_count()},
               {"sphere_intersector", opt.sphere_intersector},
@@ -342,7 +371,7 @@ int render(const RenderOptions& opt) {
   } else {
     double mean = 0;
     for (double ms : report["frame_ms"]) mean += ms;
-    mean /= opt.frames;
+    mean /= static_cast<double>(report["frame_ms"].size());
     std::cout << "rendered " << report["triangles"] << " triangles, " << report["spheres"] << " spheres and "
               << report["curve_segments"] << " curve segments at " << width << "x" << height << " with "
               << report["isa"].get<std::string>() << " on " << threads << " threads: " << mean
@@ -415,6 +444,14 @@ int main(int argc, char** argv) {
                          "light JSON (or a file) with OSPRay's names, e.g. '{\"type\":\"sphere\",\"position\":[0,2,0]}'; "
                          "replaces the default lights (repeatable)");
   render_cmd->add_option("--background", opt.background, "r,g,b,a background colour");
+  render_cmd->add_option("--pixel-filter", opt.pixel_filter, "point, box, gauss (default), mitchell or blackman_harris");
+  render_cmd->add_option("--error-target", opt.error_target,
+                         "render up to --frames frames, stopping once the estimated error (mean absolute "
+                         "luminance difference) is at most this; the report gives frames and the estimate");
+  render_cmd->add_flag("--tonemap", opt.tonemap, "apply OSPRay's filmic tonemapper to the output");
+  render_cmd->add_option("--aperture", opt.aperture, "perspective: lens radius for depth of field (apertureRadius)");
+  render_cmd->add_option("--focus", opt.focus, "perspective: distance in focus (focusDistance)");
+  render_cmd->add_flag("--panoramic", opt.panoramic, "a 360x180 degree panoramic camera at the view's position");
   render_cmd->add_option("--sphere-intersector", opt.sphere_intersector,
                          "sciray (own packet intersector) or embree (Embree's point geometry)");
 

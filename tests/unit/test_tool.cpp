@@ -297,3 +297,30 @@ TEST_CASE("sciray render: bad renderers, materials and lights are named", "[tool
   CHECK_THAT(error_of("--light '{not json'"), Catch::Contains("--light: invalid JSON"));
   CHECK_THAT(error_of("--spp 0"), Catch::Contains("'pixelSamples' must be at least 1"));
 }
+
+TEST_CASE("sciray render: an error target stops accumulation; filters, tonemapping and cameras", "[tool][frame]") {
+  const Run run = run_tool("render builtin:cornell_box --renderer pathtracer --size 32x32 --frames 500 "
+                           "--error-target 0.05 --json -o " + scratch("target.png").string());
+  INFO(run.output);
+  REQUIRE(run.exit_code == 0);
+  const auto report = nlohmann::json::parse(run.output);
+  CHECK(report["frames"].get<int>() < 500);
+  CHECK(report["frames"].get<int>() >= 2);
+  CHECK(report["estimated_error"].get<double>() <= 0.05);
+  CHECK(report["frame_ms"].size() == report["frames"].get<std::size_t>());
+
+  const Run styled = run_tool("render " SCIRAY_DATA_DIR "/meshes/bunny.ply --size 24x24 --frames 2 --tonemap "
+                              "--pixel-filter blackman_harris --aperture 0.01 --focus 0.3 -o " +
+                              scratch("styled.png").string());
+  INFO(styled.output);
+  CHECK(styled.exit_code == 0);
+  const Run panorama = run_tool("render builtin:cornell_box --panoramic --size 32x16 -o " + scratch("pano.png").string());
+  INFO(panorama.output);
+  CHECK(panorama.exit_code == 0);
+  const Run bad = run_tool("render builtin:cornell_box --size 8x8 --pixel-filter cubic -o " + scratch("bad.png").string());
+  CHECK(bad.exit_code == 1);
+  CHECK_THAT(bad.output, Catch::Contains("--pixel-filter: expected point, box, gauss"));
+  const Run negative = run_tool("render builtin:cornell_box --size 8x8 --aperture -1 -o " + scratch("bad.png").string());
+  CHECK(negative.exit_code == 1);
+  CHECK_THAT(negative.output, Catch::Contains("apertureRadius"));
+}
