@@ -268,6 +268,7 @@ TEST_CASE("bad lights, materials, textures and renderer parameters are named", "
   const float texels[4] = {1, 1, 1, 1};
   OSPData data = ospNewSharedData2D(texels, OSP_FLOAT, 2, 2);
   ospSetObject(texture, "data", data);
+  ospRelease(data);
   ospSetInt(texture, "format", OSP_TEXTURE_RGB8);
   ospCommit(texture);
   api.expect_error("texture2d texture: parameter 'data' holds float elements but 'format' 3 needs OSP_VEC3UC");
