@@ -85,11 +85,10 @@ int first_lane(const simd::Mask<Arch>& mask) {
   return 0;
 }
 
-/// Calls f(lane, SurfacePoint) for every lane of `mask` that `hit` hit, resolving each
-/// (instance, geometry) group of lanes once, as a packet.
-template <class Arch, class WorldT, class F>
-void for_each_surface(const WorldT& world, const Ray<simd::Float<Arch>>& ray, const accel::Hit<Arch>& hit,
-                      const simd::Mask<Arch>& mask, F&& f) {
+/// Calls f(lanes, inst_id, geom_id) once for each (instance, geometry) that the lanes of
+/// `mask` hit, with the lanes that hit it: a packet usually hits one or a few.
+template <class Arch, class F>
+void for_each_hit_group(const accel::Hit<Arch>& hit, const simd::Mask<Arch>& mask, F&& f) {
   using Fl = simd::Float<Arch>;
   using M = simd::Mask<Arch>;
   M remaining = mask & hit.hit;
@@ -98,7 +97,18 @@ void for_each_surface(const WorldT& world, const Ray<simd::Float<Arch>>& ray, co
     const std::int32_t geom_id = simd::lane(hit.geom_id, lane0), inst_id = simd::lane(hit.inst_id, lane0);
     const M lanes = remaining & (simd::to_float(hit.geom_id) == Fl(static_cast<float>(geom_id))) &
                     (simd::to_float(hit.inst_id) == Fl(static_cast<float>(inst_id)));
-    const auto inst = static_cast<std::uint32_t>(inst_id), geom = static_cast<std::uint32_t>(geom_id);
+    f(lanes, static_cast<std::uint32_t>(inst_id), static_cast<std::uint32_t>(geom_id));
+    remaining = remaining & !lanes;
+  }
+}
+
+/// Calls f(lane, SurfacePoint) for every lane of `mask` that `hit` hit, resolving each
+/// (instance, geometry) group of lanes once, as a packet.
+template <class Arch, class WorldT, class F>
+void for_each_surface(const WorldT& world, const Ray<simd::Float<Arch>>& ray, const accel::Hit<Arch>& hit,
+                      const simd::Mask<Arch>& mask, F&& f) {
+  using Fl = simd::Float<Arch>;
+  for_each_hit_group<Arch>(hit, mask, [&](const simd::Mask<Arch>& lanes, std::uint32_t inst, std::uint32_t geom) {
     const std::uint32_t material = world.material_of(inst, geom);
     world.visit_hit(inst, geom, [&](const auto& geometry, const Affine3f* transform) {
       auto surface = geometry.template surface<Arch>(hit, lanes);
@@ -127,8 +137,7 @@ void for_each_surface(const WorldT& world, const Ray<simd::Float<Arch>>& ray, co
         f(i, s);
       }
     });
-    remaining = remaining & !lanes;
-  }
+  });
 }
 
 /// How far a secondary ray starts off the surface it leaves, along the geometric normal:

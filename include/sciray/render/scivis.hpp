@@ -154,13 +154,7 @@ private:
   void shade_surfaces(const Ray<F>& ray, const accel::Hit<Arch>& hit, const M& surfaces, PixelRandom* rng,
                       Vec3<F>& color, const Vec3<F>& transmittance, Vec3<F>& pass, PixelSample<Arch>& out,
                       bool first) const {
-    M remaining = surfaces;
-    while (simd::any(remaining)) {
-      const int lane0 = first_lane<Arch>(remaining);
-      const std::int32_t geom_id = simd::lane(hit.geom_id, lane0), inst_id = simd::lane(hit.inst_id, lane0);
-      const M lanes = remaining & (simd::to_float(hit.geom_id) == F(static_cast<float>(geom_id))) &
-                      (simd::to_float(hit.inst_id) == F(static_cast<float>(inst_id)));
-      const auto inst = static_cast<std::uint32_t>(inst_id), geom = static_cast<std::uint32_t>(geom_id);
+    for_each_hit_group<Arch>(hit, surfaces, [&](const M& lanes, std::uint32_t inst, std::uint32_t geom) {
       world_->visit_hit(inst, geom, [&](const auto& geometry, const Affine3f* transform) {
         auto surface = geometry.template surface<Arch>(hit, lanes);
         Vec3<F> ng = hit.ng;
@@ -174,8 +168,7 @@ private:
           out.albedo = select(lanes, shaded.albedo, out.albedo);
         }
       });
-      remaining = remaining & !lanes;
-    }
+    });
   }
 
   struct Shaded {
@@ -305,22 +298,15 @@ private:
     for (int depth = 0; simd::any(live) && depth <= params_.max_path_length; ++depth) {
       const auto hit = accel::intersect<Arch>(world_->scene(), ray, live, false, world_->hit_filter());
       const M blocked = live & hit.hit;
-      M remaining = blocked;
-      while (simd::any(remaining)) {
-        const int lane0 = first_lane<Arch>(remaining);
-        const std::int32_t geom_id = simd::lane(hit.geom_id, lane0), inst_id = simd::lane(hit.inst_id, lane0);
-        const M group = remaining & (simd::to_float(hit.geom_id) == F(static_cast<float>(geom_id))) &
-                        (simd::to_float(hit.inst_id) == F(static_cast<float>(inst_id)));
-        const std::uint32_t material =
-            world_->material_of(static_cast<std::uint32_t>(inst_id), static_cast<std::uint32_t>(geom_id));
-        if (material != no_material) {
-          const ObjMaterial& m = surfaces_[material];
-          through = select(group, through * Vec3<F>(splat(1.f - m.d) + m.tf * m.d), through);
-        } else {
+      for_each_hit_group<Arch>(hit, blocked, [&](const M& group, std::uint32_t inst, std::uint32_t geom) {
+        const std::uint32_t material = world_->material_of(inst, geom);
+        if (material == no_material) {
           through = select(group, Vec3<F>(splat(0.f)), through);
+          return;
         }
-        remaining = remaining & !group;
-      }
+        const ObjMaterial& m = surfaces_[material];
+        through = select(group, through * Vec3<F>(splat(1.f - m.d) + m.tf * m.d), through);
+      });
       const F left = simd::max(simd::max(through.x, through.y), through.z);
       live = blocked & (left > F(params_.min_contribution));
       through = select(blocked & !live, Vec3<F>(splat(0.f)), through);
