@@ -72,28 +72,22 @@ public:
     }
 
     for (int depth = 0; depth <= params_.max_path_length; ++depth) {
-      alignas(64) float lanes[6][W];
-      alignas(64) float tnear[W];
+      // The live paths' rays as a packet (bounce rays start off the surface: tnear 0).
+      alignas(64) float lanes[7][W];
       bool any_alive = false;
       for (int i = 0; i < W; ++i) {
         const Path& p = path[i];
         any_alive |= p.alive;
-        const float v[6] = {p.org.x, p.org.y, p.org.z, p.dir.x, p.dir.y, p.dir.z};
-        for (int c = 0; c < 6; ++c) lanes[c][i] = v[c];
-        tnear[i] = 0.f;
+        const float v[7] = {p.org.x, p.org.y, p.org.z, p.dir.x, p.dir.y, p.dir.z, p.alive ? 1.f : 0.f};
+        for (int c = 0; c < 7; ++c) lanes[c][i] = v[c];
       }
       if (!any_alive) break;
       Ray<F> ray;
       ray.org = {simd::load<Arch>(lanes[0]), simd::load<Arch>(lanes[1]), simd::load<Arch>(lanes[2])};
       ray.dir = {simd::load<Arch>(lanes[3]), simd::load<Arch>(lanes[4]), simd::load<Arch>(lanes[5])};
-      ray.tnear = simd::load<Arch>(tnear);
+      ray.tnear = F(0.f);
       ray.tfar = F(inf);
-      M live(false);
-      {
-        alignas(64) float alive[W];
-        for (int i = 0; i < W; ++i) alive[i] = path[i].alive ? 1.f : 0.f;
-        live = simd::load<Arch>(alive) > F(0.f);
-      }
+      const M live = simd::load<Arch>(lanes[6]) > F(0.f);
       const auto hit = accel::intersect<Arch>(world_->scene(), ray, live, depth == 0, world_->hit_filter());
 
       if constexpr (requires { world_->volume_count(); })
