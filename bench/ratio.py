@@ -7,7 +7,14 @@
 
 Prints Markdown tables: for each scene, each engine benchmark's median rays/s and its
 ratio to frame/raw_embree/intersect16/<scene>; for spheres, sciray's own intersector
-against Embree's native spheres (frame/spheres/<isa>/native/<scene>) of the same ISA.
+against Embree's native spheres (frame/spheres/<isa>/native/<scene>) of the same ISA;
+for renderers (bench_renderers.cpp), what each configuration costs a pixel sample as a
+multiple of primary rays, renderer/<isa>/<scene>/scivis, of the same ISA and scene:
+
+    ./build/bench/sciray_bench --benchmark_filter=renderer/ --benchmark_min_time=0.2 \
+        --benchmark_repetitions=3 --benchmark_report_aggregates_only=true \
+        --benchmark_out=renderers.json --benchmark_out_format=json
+    python3 bench/ratio.py renderers.json
 """
 import json
 import re
@@ -26,8 +33,9 @@ def medians(path):
 
 def main(path):
     rates = medians(path)
-    print("| benchmark | Mrays/s | ratio to raw Embree |")
-    print("|---|---:|---:|")
+    if any(name.startswith(("frame/scivis/", "frame/raw_embree/")) for name in rates):
+        print("| benchmark | Mrays/s | ratio to raw Embree |")
+        print("|---|---:|---:|")
     for name, rate in sorted(rates.items()):
         match = re.match(r"frame/scivis/[^/]+/(torus_\w+?)_(plain|normals_colors)", name)
         if not match:
@@ -50,6 +58,36 @@ def main(path):
     for name, rate in sorted(rates.items()):
         if name.startswith("frame/curves/"):
             print(f"| `{name}` | {rate / 1e6:.1f} | |")
+    renderer_costs(rates)
+
+
+RENDERER_CONFIGS = ["scivis_shadows", "scivis_ao4", "ao1", "ao4", "pathtracer_pl8"]
+
+
+def renderer_costs(rates):
+    """Per scene and ISA: primary-ray Msamples/s and each configuration's cost per sample
+    as a multiple of it (baseline rate / configuration rate)."""
+    rows = {}
+    for name, rate in rates.items():
+        match = re.match(r"renderer/([^/]+)/([^/]+)/(\w+)$", name)
+        if match:
+            rows.setdefault((match.group(2), match.group(1)), {})[match.group(3)] = rate
+    if not rows:
+        return
+    order = {"avx512": 0, "avx2": 1, "sse4.2": 2, "scalar": 3}
+    print("\n| scene | ISA | primary Msamples/s | " + " | ".join(RENDERER_CONFIGS) + " |")
+    print("|---|---|---:|" + "---:|" * len(RENDERER_CONFIGS))
+    for (scene, isa), configs in sorted(rows.items(), key=lambda kv: (kv[0][0], order.get(kv[0][1], 9))):
+        base = configs.get("scivis")
+        cells = [f"{base / configs[c]:.2f}" if base and c in configs else "n/a" for c in RENDERER_CONFIGS]
+        primary = f"{base / 1e6:.2f}" if base else "n/a"
+        print(f"| {scene} | {isa} | {primary} | " + " | ".join(cells) + " |")
+    print("\nMsamples per CPU second:\n")
+    print("| scene | ISA | scivis | " + " | ".join(RENDERER_CONFIGS) + " |")
+    print("|---|---|---:|" + "---:|" * len(RENDERER_CONFIGS))
+    for (scene, isa), configs in sorted(rows.items(), key=lambda kv: (kv[0][0], order.get(kv[0][1], 9))):
+        cells = [f"{configs[c] / 1e6:.2f}" if c in configs else "n/a" for c in ["scivis", *RENDERER_CONFIGS]]
+        print(f"| {scene} | {isa} | " + " | ".join(cells) + " |")
 
 
 if __name__ == "__main__":
