@@ -76,6 +76,12 @@ public:
         direct_lights_.push_back(&l);
     }
     if constexpr (is_ao) ambient_ = splat(params_.ao_intensity);
+    // Lights with size and AO rays draw random numbers; point-like distant lights do not.
+    needs_random_ = params_.ao_samples > 0;
+    for (const Light* l : direct_lights_) {
+      const auto* distant = std::get_if<DistantLight>(l);
+      if (!distant || distant->angular_diameter > 0.f) needs_random_ = true;
+    }
     const Box3f b = world.bounds();
     scene_size_ = b.empty() ? 1.f : length(b.size());
   }
@@ -86,7 +92,9 @@ public:
 
   PixelSample<Arch> render(const Ray<F>& camera_ray, const M& active, const SampleIndex<Arch>& index = {}) const {
     PixelRandom rng[W];
-    for (int i = 0; i < W; ++i) rng[i] = PixelRandom(static_cast<std::uint32_t>(simd::lane(index.pixel, i)), index.sample);
+    if (needs_random_)
+      for (int i = 0; i < W; ++i)
+        rng[i] = PixelRandom(static_cast<std::uint32_t>(simd::lane(index.pixel, i)), index.sample);
     const F inf(std::numeric_limits<float>::infinity());
 
     PixelSample<Arch> out;
@@ -321,6 +329,7 @@ private:
   std::vector<ObjMaterial> surfaces_;
   std::vector<bool> luminous_;
   bool any_transparent_ = false;
+  bool needs_random_ = false;
   Vec3f ambient_{0.f, 0.f, 0.f};
   std::vector<const Light*> direct_lights_;
   const HdriLight* environment_ = nullptr;  ///< the first visible hdri light: the background
