@@ -77,98 +77,35 @@ inline nlohmann::json parse_json_argument(const std::string& text, const std::st
 }
 
 inline sciray::Material material_from_json(const nlohmann::json& j, const std::string& what) {
-  using namespace sciray;
   JsonParams p(j, what);
   const std::string type = p.type();
-  Material material;
-  if (type == "obj") {
-    ObjMaterial m;
-    p.read("kd", m.kd), p.read("ks", m.ks), p.read("ns", m.ns), p.read("d", m.d), p.read("tf", m.tf);
-    material = m;
-  } else if (type == "principled") {
-    PrincipledMaterial m;
-    p.read("baseColor", m.base_color), p.read("edgeColor", m.edge_color), p.read("metallic", m.metallic);
-    p.read("diffuse", m.diffuse), p.read("specular", m.specular), p.read("ior", m.ior);
-    p.read("transmission", m.transmission), p.read("transmissionColor", m.transmission_color);
-    p.read("transmissionDepth", m.transmission_depth), p.read("roughness", m.roughness), p.read("thin", m.thin);
-    p.read("thickness", m.thickness), p.read("coat", m.coat), p.read("coatIor", m.coat_ior);
-    p.read("coatColor", m.coat_color), p.read("coatThickness", m.coat_thickness);
-    p.read("coatRoughness", m.coat_roughness), p.read("sheen", m.sheen), p.read("sheenColor", m.sheen_color);
-    p.read("sheenTint", m.sheen_tint), p.read("sheenRoughness", m.sheen_roughness), p.read("opacity", m.opacity);
-    p.read("emissiveColor", m.emissive_color);
-    material = m;
-  } else if (type == "glass") {
-    GlassMaterial m;
-    p.read("eta", m.eta), p.read("attenuationColor", m.attenuation_color);
-    p.read("attenuationDistance", m.attenuation_distance);
-    material = m;
-  } else if (type == "thinGlass") {
-    ThinGlassMaterial m;
-    p.read("eta", m.eta), p.read("attenuationColor", m.attenuation_color);
-    p.read("attenuationDistance", m.attenuation_distance), p.read("thickness", m.thickness);
-    material = m;
-  } else if (type == "metal") {
-    MetalMaterial m;
-    p.read("eta", m.eta), p.read("k", m.k), p.read("roughness", m.roughness);
-    material = m;
-  } else if (type == "alloy") {
-    AlloyMaterial m;
-    p.read("color", m.color), p.read("edgeColor", m.edge_color), p.read("roughness", m.roughness);
-    material = m;
-  } else if (type == "luminous") {
-    LuminousMaterial m;
-    p.read("color", m.color), p.read("intensity", m.intensity), p.read("transparency", m.transparency);
-    material = m;
-  } else {
-    throw Error(what + ": unknown material type '" + type + "' (obj, principled, glass, thinGlass, metal, alloy, luminous)");
-  }
+  std::optional<sciray::Material> material = sciray::material_of_type(type);
+  if (!material)
+    throw sciray::Error(what + ": unknown material type '" + type +
+                        "' (obj, principled, glass, thinGlass, metal, alloy, luminous)");
+  sciray::for_each_parameter(*material, [&](const char* key, auto& field) { p.read(key, field); });
   p.check_all_used();
   try {
-    validate(material);
-  } catch (const Error& e) {
-    throw Error(what + ": " + e.what());
+    sciray::validate(*material);
+  } catch (const sciray::Error& e) {
+    throw sciray::Error(what + ": " + e.what());
   }
-  return material;
+  return *material;
 }
 
 inline sciray::Light light_from_json(const nlohmann::json& j, const std::string& what) {
-  using namespace sciray;
   JsonParams p(j, what);
   const std::string type = p.type();
-  const auto common = [&](auto light) {
-    p.read("color", light.color), p.read("intensity", light.intensity), p.read("visible", light.visible);
-    return light;
-  };
-  Light light;
-  if (type == "ambient") {
-    light = common(AmbientLight{});
-  } else if (type == "distant") {
-    DistantLight l = common(DistantLight{});
-    p.read("direction", l.direction), p.read("angularDiameter", l.angular_diameter);
-    light = l;
-  } else if (type == "sphere") {
-    SphereLight l = common(SphereLight{});
-    p.read("position", l.position), p.read("radius", l.radius);
-    light = l;
-  } else if (type == "spot") {
-    SpotLight l = common(SpotLight{});
-    p.read("position", l.position), p.read("direction", l.direction), p.read("openingAngle", l.opening_angle);
-    p.read("penumbraAngle", l.penumbra_angle), p.read("radius", l.radius);
-    light = l;
-  } else if (type == "quad") {
-    QuadLight l = common(QuadLight{});
-    p.read("position", l.position), p.read("edge1", l.edge1), p.read("edge2", l.edge2);
-    light = l;
-  } else {
-    throw Error(what + ": unknown light type '" + type + "' (ambient, distant, sphere, spot, quad)");
-  }
+  std::optional<sciray::Light> light = sciray::light_of_type(type);
+  if (!light) throw sciray::Error(what + ": unknown light type '" + type + "' (ambient, distant, sphere, spot, quad)");
+  sciray::for_each_parameter(*light, [&](const char* key, auto& field) { p.read(key, field); });
   p.check_all_used();
   try {
-    validate(light);
-  } catch (const Error& e) {
-    throw Error(what + ": " + e.what());
+    sciray::validate(*light);
+  } catch (const sciray::Error& e) {
+    throw sciray::Error(what + ": " + e.what());
   }
-  return light;
+  return *light;
 }
 
 }  // namespace sciray_tool

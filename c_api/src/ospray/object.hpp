@@ -10,6 +10,7 @@
 #include <mutex>
 #include <set>
 #include <string>
+#include <type_traits>
 #include <unordered_set>
 #include <vector>
 
@@ -134,6 +135,17 @@ protected:
   int get_int(const std::string& id, int fallback) const;
   bool get_bool(const std::string& id, bool fallback) const;
   Vec3f get_vec3f(const std::string& id, Vec3f fallback) const;
+  /// Reads a float, bool or vec3f parameter into `field`, which keeps its value where the
+  /// parameter is unset.
+  template <class T>
+  void read_into(const std::string& id, T& field) const {
+    if constexpr (std::is_same_v<T, float>)
+      field = get_float(id, field);
+    else if constexpr (std::is_same_v<T, bool>)
+      field = get_bool(id, field);
+    else
+      field = get_vec3f(id, field);
+  }
   /// A vec4f that OSPRay also accepts as a vec3f (alpha 0) or a float (grey, alpha 0).
   std::array<float, 4> get_color4(const std::string& id, std::array<float, 4> fallback) const;
   template <class T>

@@ -73,75 +73,11 @@ void CameraObject::on_commit() {
 }
 
 void Material::on_commit() {
-  const std::string& type = subtype();
-  sciray::Material material;
-  if (type == "obj") {
-    ObjMaterial m;
-    m.kd = get_vec3f("kd", m.kd);
-    m.ks = get_vec3f("ks", m.ks);
-    m.ns = get_float("ns", m.ns);
-    m.d = get_float("d", m.d);
-    m.tf = get_vec3f("tf", m.tf);
-    material = m;
-  } else if (type == "principled") {
-    PrincipledMaterial m;
-    m.base_color = get_vec3f("baseColor", m.base_color);
-    m.edge_color = get_vec3f("edgeColor", m.edge_color);
-    m.metallic = get_float("metallic", m.metallic);
-    m.diffuse = get_float("diffuse", m.diffuse);
-    m.specular = get_float("specular", m.specular);
-    m.ior = get_float("ior", m.ior);
-    m.transmission = get_float("transmission", m.transmission);
-    m.transmission_color = get_vec3f("transmissionColor", m.transmission_color);
-    m.transmission_depth = get_float("transmissionDepth", m.transmission_depth);
-    m.roughness = get_float("roughness", m.roughness);
-    m.thin = get_bool("thin", m.thin);
-    m.thickness = get_float("thickness", m.thickness);
-    m.coat = get_float("coat", m.coat);
-    m.coat_ior = get_float("coatIor", m.coat_ior);
-    m.coat_color = get_vec3f("coatColor", m.coat_color);
-    m.coat_thickness = get_float("coatThickness", m.coat_thickness);
-    m.coat_roughness = get_float("coatRoughness", m.coat_roughness);
-    m.sheen = get_float("sheen", m.sheen);
-    m.sheen_color = get_vec3f("sheenColor", m.sheen_color);
-    m.sheen_tint = get_float("sheenTint", m.sheen_tint);
-    m.sheen_roughness = get_float("sheenRoughness", m.sheen_roughness);
-    m.opacity = get_float("opacity", m.opacity);
-    m.emissive_color = get_vec3f("emissiveColor", m.emissive_color);
-    material = m;
-  } else if (type == "glass") {
-    GlassMaterial m;
-    m.eta = get_float("eta", m.eta);
-    m.attenuation_color = get_vec3f("attenuationColor", m.attenuation_color);
-    m.attenuation_distance = get_float("attenuationDistance", m.attenuation_distance);
-    material = m;
-  } else if (type == "thinGlass") {
-    ThinGlassMaterial m;
-    m.eta = get_float("eta", m.eta);
-    m.attenuation_color = get_vec3f("attenuationColor", m.attenuation_color);
-    m.attenuation_distance = get_float("attenuationDistance", m.attenuation_distance);
-    m.thickness = get_float("thickness", m.thickness);
-    material = m;
-  } else if (type == "metal") {
-    MetalMaterial m;
-    if (find("ior")) throw Error(name() + ": parameter 'ior' (a spectral array) is not supported; pass RGB 'eta' and 'k'");
-    m.eta = get_vec3f("eta", m.eta);
-    m.k = get_vec3f("k", m.k);
-    m.roughness = get_float("roughness", m.roughness);
-    material = m;
-  } else if (type == "alloy") {
-    AlloyMaterial m;
-    m.color = get_vec3f("color", m.color);
-    m.edge_color = get_vec3f("edgeColor", m.edge_color);
-    m.roughness = get_float("roughness", m.roughness);
-    material = m;
-  } else {  // luminous
-    LuminousMaterial m;
-    m.color = get_vec3f("color", m.color);
-    m.intensity = get_float("intensity", m.intensity);
-    m.transparency = get_float("transparency", m.transparency);
-    material = m;
-  }
+  // The factory creates only types the engine has.
+  sciray::Material material = *material_of_type(subtype());
+  if (subtype() == "metal" && find("ior"))
+    throw Error(name() + ": parameter 'ior' (a spectral array) is not supported; pass RGB 'eta' and 'k'");
+  for_each_parameter(material, [&](const char* id, auto& field) { read_into(id, field); });
   try {
     validate(material);
   } catch (const Error& e) {
@@ -1024,46 +960,15 @@ Box3f Instance::bounds() const { return transform_.transform(group_->bounds()); 
 std::uint64_t Instance::version() const { return std::max(version_, group_ ? group_->version() : 0); }
 
 void Light::on_commit() {
-  const auto common = [&](auto light) {
-    light.color = get_vec3f("color", {1.f, 1.f, 1.f});
-    light.intensity = get_float("intensity", 1.f);
-    light.visible = get_bool("visible", true);
-    return light;
-  };
-  const std::string& type = subtype();
   sciray::Light light;
-  if (type == "ambient") {
-    light = common(AmbientLight{});
-  } else if (type == "distant") {
-    DistantLight l = common(DistantLight{});
-    l.direction = get_vec3f("direction", {0.f, 0.f, 1.f});
-    l.angular_diameter = get_float("angularDiameter", 0.f);
-    light = l;
-  } else if (type == "sphere") {
-    SphereLight l = common(SphereLight{});
-    l.position = get_vec3f("position", {0.f, 0.f, 0.f});
-    l.radius = get_float("radius", 0.f);
-    light = l;
-  } else if (type == "spot") {
-    SpotLight l = common(SpotLight{});
-    l.position = get_vec3f("position", {0.f, 0.f, 0.f});
-    l.direction = get_vec3f("direction", {0.f, 0.f, 1.f});
-    l.opening_angle = get_float("openingAngle", 180.f);
-    l.penumbra_angle = get_float("penumbraAngle", 5.f);
-    l.radius = get_float("radius", 0.f);
-    light = l;
-  } else if (type == "quad") {
-    QuadLight l = common(QuadLight{});
-    l.position = get_vec3f("position", {0.f, 0.f, 0.f});
-    l.edge1 = get_vec3f("edge1", {1.f, 0.f, 0.f});
-    l.edge2 = get_vec3f("edge2", {0.f, 1.f, 0.f});
-    light = l;
-  } else {  // hdri
+  if (subtype() == "hdri") {
     auto* map = get_object<TextureObject>("map", OSP_TEXTURE, true);
     if (!map->committed() || !map->image()) throw Error(name() + ": parameter 'map' must be a committed texture2d");
-    HdriLight l = common(HdriLight(map->image(), get_vec3f("up", {0.f, 1.f, 0.f}), get_vec3f("direction", {0.f, 0.f, 1.f})));
-    light = l;
+    light = HdriLight(map->image(), get_vec3f("up", {0.f, 1.f, 0.f}), get_vec3f("direction", {0.f, 0.f, 1.f}));
+  } else {
+    light = *light_of_type(subtype());  // the factory creates only types the engine has
   }
+  for_each_parameter(light, [&](const char* id, auto& field) { read_into(id, field); });
   try {
     validate(light);
   } catch (const Error& e) {

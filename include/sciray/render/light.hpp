@@ -14,6 +14,7 @@
 #include <numbers>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <variant>
 #include <vector>
 
@@ -172,6 +173,40 @@ using Light = std::variant<AmbientLight, DistantLight, SphereLight, SpotLight, Q
 inline const char* type_name(const Light& light) {
   static constexpr const char* names[] = {"ambient", "distant", "sphere", "spot", "quad", "hdri"};
   return names[light.index()];
+}
+
+/// A default light of OSPRay type `type` among those described by parameters alone
+/// (ambient, distant, sphere, spot, quad; `hdri` needs its map); nullopt otherwise.
+inline std::optional<Light> light_of_type(std::string_view type) {
+  if (type == "ambient") return AmbientLight{};
+  if (type == "distant") return DistantLight{};
+  if (type == "sphere") return SphereLight{};
+  if (type == "spot") return SpotLight{};
+  if (type == "quad") return QuadLight{};
+  return std::nullopt;
+}
+
+/// Calls read(name, field) for every parameter of `light` under its OSPRay name (field:
+/// float&, bool& or Vec3f&); an `hdri` light's map, up and direction are set when it is
+/// constructed, so only its common parameters are listed.
+template <class Read>
+void for_each_parameter(Light& light, Read&& read) {
+  std::visit(
+      [&](auto& l) {
+        using L = std::decay_t<decltype(l)>;
+        read("color", l.color), read("intensity", l.intensity), read("visible", l.visible);
+        if constexpr (std::is_same_v<L, DistantLight>) {
+          read("direction", l.direction), read("angularDiameter", l.angular_diameter);
+        } else if constexpr (std::is_same_v<L, SphereLight>) {
+          read("position", l.position), read("radius", l.radius);
+        } else if constexpr (std::is_same_v<L, SpotLight>) {
+          read("position", l.position), read("direction", l.direction), read("openingAngle", l.opening_angle);
+          read("penumbraAngle", l.penumbra_angle), read("radius", l.radius);
+        } else if constexpr (std::is_same_v<L, QuadLight>) {
+          read("position", l.position), read("edge1", l.edge1), read("edge2", l.edge2);
+        }
+      },
+      light);
 }
 
 /// A light sampled from a point.

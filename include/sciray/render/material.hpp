@@ -5,7 +5,9 @@
 // tracer evaluates each type's BSDF (render/bsdf.hpp). Colours are linear RGB.
 #include <cmath>
 #include <cstdint>
+#include <optional>
 #include <string>
+#include <string_view>
 #include <variant>
 
 #include "sciray/error.hpp"
@@ -99,6 +101,53 @@ using Material = std::variant<ObjMaterial, PrincipledMaterial, GlassMaterial, Th
 inline const char* type_name(const Material& m) {
   static constexpr const char* names[] = {"obj", "principled", "glass", "thinGlass", "metal", "alloy", "luminous"};
   return names[m.index()];
+}
+
+/// A default material of OSPRay type `type` (obj, principled, glass, thinGlass, metal,
+/// alloy, luminous); nullopt for another name.
+inline std::optional<Material> material_of_type(std::string_view type) {
+  if (type == "obj") return ObjMaterial{};
+  if (type == "principled") return PrincipledMaterial{};
+  if (type == "glass") return GlassMaterial{};
+  if (type == "thinGlass") return ThinGlassMaterial{};
+  if (type == "metal") return MetalMaterial{};
+  if (type == "alloy") return AlloyMaterial{};
+  if (type == "luminous") return LuminousMaterial{};
+  return std::nullopt;
+}
+
+/// Calls read(name, field) for every parameter of `material` under its OSPRay name
+/// (field: float&, bool& or Vec3f&): the one table the C API and scene files both read.
+template <class Read>
+void for_each_parameter(Material& material, Read&& read) {
+  std::visit(
+      [&](auto& m) {
+        using M = std::decay_t<decltype(m)>;
+        if constexpr (std::is_same_v<M, ObjMaterial>) {
+          read("kd", m.kd), read("ks", m.ks), read("ns", m.ns), read("d", m.d), read("tf", m.tf);
+        } else if constexpr (std::is_same_v<M, PrincipledMaterial>) {
+          read("baseColor", m.base_color), read("edgeColor", m.edge_color), read("metallic", m.metallic);
+          read("diffuse", m.diffuse), read("specular", m.specular), read("ior", m.ior);
+          read("transmission", m.transmission), read("transmissionColor", m.transmission_color);
+          read("transmissionDepth", m.transmission_depth), read("roughness", m.roughness), read("thin", m.thin);
+          read("thickness", m.thickness), read("coat", m.coat), read("coatIor", m.coat_ior);
+          read("coatColor", m.coat_color), read("coatThickness", m.coat_thickness);
+          read("coatRoughness", m.coat_roughness), read("sheen", m.sheen), read("sheenColor", m.sheen_color);
+          read("sheenTint", m.sheen_tint), read("sheenRoughness", m.sheen_roughness), read("opacity", m.opacity);
+          read("emissiveColor", m.emissive_color);
+        } else if constexpr (std::is_same_v<M, GlassMaterial> || std::is_same_v<M, ThinGlassMaterial>) {
+          read("eta", m.eta), read("attenuationColor", m.attenuation_color);
+          read("attenuationDistance", m.attenuation_distance);
+          if constexpr (std::is_same_v<M, ThinGlassMaterial>) read("thickness", m.thickness);
+        } else if constexpr (std::is_same_v<M, MetalMaterial>) {
+          read("eta", m.eta), read("k", m.k), read("roughness", m.roughness);
+        } else if constexpr (std::is_same_v<M, AlloyMaterial>) {
+          read("color", m.color), read("edgeColor", m.edge_color), read("roughness", m.roughness);
+        } else if constexpr (std::is_same_v<M, LuminousMaterial>) {
+          read("color", m.color), read("intensity", m.intensity), read("transparency", m.transparency);
+        }
+      },
+      material);
 }
 
 /// What the scivis and ao renderers see of any material: diffuse and specular colour,
