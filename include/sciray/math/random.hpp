@@ -82,6 +82,11 @@ public:
   }
   float next_1d() { return next_2d().u; }
 
+  /// A number in [0,1) that takes no low-discrepancy dimension: for samplers that draw a
+  /// varying count of numbers (delta tracking), which would otherwise shift every later
+  /// draw onto another sample's dimension.
+  float next_independent() { return pcg_.next_float(); }
+
 private:
   static const std::array<double, 2 * low_discrepancy_pairs>& kronecker_alphas() {
     static const auto alphas = [] {

@@ -308,7 +308,8 @@ inline void validate(const Light& light) {
 }
 
 /// Samples `light` from point `p` with surface normal `n` (used by `ambient` to sample
-/// the cosine-weighted hemisphere). nullopt where the light cannot reach p.
+/// the cosine-weighted hemisphere; a zero `n`, a point in a medium, samples the whole
+/// sphere uniformly). nullopt where the light cannot reach p.
 inline std::optional<LightSample> sample(const Light& light, const Vec3f& p, const Vec3f& n, float u1, float u2) {
   using detail::pi;
   constexpr float inf = std::numeric_limits<float>::infinity();
@@ -317,6 +318,11 @@ inline std::optional<LightSample> sample(const Light& light, const Vec3f& p, con
         using L = std::decay_t<decltype(l)>;
         const Vec3f power = l.color * l.intensity;
         if constexpr (std::is_same_v<L, AmbientLight>) {
+          if (dot(n, n) == 0.f) {  // a point in a medium: light from the whole sphere
+            const float z = 1.f - 2.f * u1, r = std::sqrt(std::max(0.f, 1.f - z * z)), phi = 2.f * pi * u2;
+            const float pdf = 1.f / (4.f * pi);
+            return LightSample{{r * std::cos(phi), r * std::sin(phi), z}, inf, power / pdf, pdf};
+          }
           const Vec3f w = detail::sample_cosine(n, u1, u2);
           const float pdf = dot(w, n) / pi;
           if (!(pdf > 0.f)) return std::nullopt;
@@ -400,7 +406,7 @@ inline LightEval eval(const Light& light, const Vec3f& p, const Vec3f& n, const 
         const Vec3f power = l.color * l.intensity;
         if constexpr (std::is_same_v<L, AmbientLight>) {
           if (max_dist < inf) return none;
-          return {power, std::max(0.f, dot(w, n)) / pi};
+          return {power, dot(n, n) == 0.f ? 1.f / (4.f * pi) : std::max(0.f, dot(w, n)) / pi};
         } else if constexpr (std::is_same_v<L, DistantLight>) {
           if (max_dist < inf || l.angular_diameter <= 0.f) return none;
           const float cos_max = std::cos(detail::radians(0.5f * l.angular_diameter));

@@ -11,8 +11,15 @@
 //
 // Shadow rays are blocked by any surface, transparent or not: light through glass
 // arrives only along BSDF-sampled paths (caustics from lights with size and from the
-// environment, none from point lights). Volumes emit and absorb along the path as in
-// scivis (the same integrator); they do not scatter light yet.
+// environment, none from point lights).
+//
+// Volumes are participating media (volume/volumetric_model.hpp): a path collides with
+// them where delta tracking says, loses the part its albedo (the transfer function's
+// colour) does not scatter, and leaves in a direction drawn from the Henyey–Greenstein
+// phase function; next-event estimation weighs lights by the phase function and by the
+// transmittance that ratio tracking estimates along the shadow ray. Volumes do not emit.
+// The alpha channel keeps the camera ray's deterministic volume opacity (as scivis
+// integrates it), so that compositing gets an alpha without noise.
 #include <cmath>
 #include <limits>
 #include <optional>
@@ -20,6 +27,7 @@
 #include "sciray/math/random.hpp"
 #include "sciray/render/bsdf.hpp"
 #include "sciray/render/common.hpp"
+#include "sciray/render/phase.hpp"
 
 namespace sciray {
 
@@ -89,24 +97,29 @@ public:
       ray.tfar = F(inf);
       const M live = simd::load<Arch>(lanes[6]) > F(0.f);
       const auto hit = accel::intersect<Arch>(world_->scene(), ray, live, depth == 0, world_->hit_filter());
+      F t_event = simd::select(hit.hit, hit.t, F(inf));
 
+      // A collision with a volume before the surface replaces the surface as the next vertex.
+      Vertex vertex[W];
+      M in_medium(false);
       if constexpr (requires { world_->volume_count(); })
-        if (world_->volume_count()) through_volumes(path, ray, live, simd::select(hit.hit, hit.t, F(inf)), depth);
-
-      SurfacePoint surface[W];
-      bool has_surface[W] = {};
-      detail::for_each_surface<Arch>(*world_, ray, hit, live, [&](int i, const SurfacePoint& s) {
-        surface[i] = s;
-        has_surface[i] = true;
+        if (world_->volume_count()) {
+          if (depth == 0) camera_volume_alpha(path, ray, live, t_event);
+          in_medium = collide_with_volumes(path, ray, live, t_event, vertex);
+        }
+      detail::for_each_surface<Arch>(*world_, ray, hit, live & !in_medium, [&](int i, const SurfacePoint& s) {
+        vertex[i].kind = Vertex::Kind::surface;
+        vertex[i].surface = s;
       });
 
       // Light found by the BSDF-sampled ray (or seen by the camera), and emission.
       for (int i = 0; i < W; ++i) {
         Path& p = path[i];
         if (!p.alive) continue;
-        const float t = has_surface[i] ? simd::lane(hit.t, i) : inf;
+        Vertex& v = vertex[i];
+        const float t = v.kind == Vertex::Kind::none ? inf : simd::lane(t_event, i);
         add_lights_along(p, t, depth);
-        if (!has_surface[i]) {
+        if (v.kind == Vertex::Kind::none) {
           if (depth == 0) {
             const Vec3f background = params_.backplate ? params_.backplate->sample(simd::lane(index.screen_x, i),
                                                                                    simd::lane(index.screen_y, i))
@@ -117,7 +130,13 @@ public:
           continue;
         }
         if (p.medium != no_material) p.throughput = p.throughput * medium_transmittance(params_.materials[p.medium], t);
-        const SurfacePoint& s = surface[i];
+        if (depth == params_.max_path_length) p.alive = false;
+        if (v.kind == Vertex::Kind::medium) {
+          p.p = p.org + p.dir * t;
+          p.throughput = p.throughput * v.albedo;
+          continue;
+        }
+        const SurfacePoint& s = v.surface;
         p.sp = {s.n, s.ng, s.front, s.color};
         p.p = s.p;
         const Material& m = material(s);
@@ -125,8 +144,8 @@ public:
         if (depth == 0) {
           p.alpha = 1.f;
           const Vec3f a = albedo(m, p.sp);
-          const float v[7] = {t, s.n.x, s.n.y, s.n.z, a.x, a.y, a.z};
-          for (int c = 0; c < 7; ++c) first[c][i] = v[c];
+          const float c[7] = {t, s.n.x, s.n.y, s.n.z, a.x, a.y, a.z};
+          for (int k = 0; k < 7; ++k) first[k][i] = c[k];
           ids[0][i] = simd::lane(hit.prim_id, i);
           ids[1][i] = simd::lane(hit.geom_id, i);
           const std::int32_t inst = simd::lane(hit.inst_id, i);
@@ -134,32 +153,42 @@ public:
                           ? -1
                           : inst - static_cast<std::int32_t>(world_->geometry_count());
         }
-        if (depth == params_.max_path_length) p.alive = false;
       }
 
-      sample_lights(path, surface, has_surface);
+      sample_lights(path, vertex);
 
-      // Continue each path by sampling its BSDF.
+      // Continue each path by sampling its BSDF or phase function.
       for (int i = 0; i < W; ++i) {
         Path& p = path[i];
-        if (!p.alive || !has_surface[i]) continue;
-        const Material& m = material(surface[i]);
+        const Vertex& v = vertex[i];
+        if (!p.alive || v.kind == Vertex::Kind::none) continue;
         const Vec3f wo = -p.dir;
         const float u_lobe = p.rng.next_1d();
         const auto u = p.rng.next_2d();
-        const std::optional<BsdfSample> b = sample(m, p.sp, wo, u_lobe, u.u, u.v);
-        if (!b || !(b->pdf > 0.f)) {
-          p.alive = false;
-          continue;
+        if (v.kind == Vertex::Kind::medium) {
+          // The phase function is its own pdf: the weight is 1.
+          const Vec3f scattered = sample_henyey_greenstein(p.dir, v.anisotropy, u.u, u.v);
+          p.previous_pdf = henyey_greenstein(dot(p.dir, scattered), v.anisotropy);
+          p.org = p.p;
+          p.dir = scattered;
+          p.previous_delta = false;
+          p.previous_normal = splat(0.f);
+        } else {
+          const Material& m = material(v.surface);
+          const std::optional<BsdfSample> b = sample(m, p.sp, wo, u_lobe, u.u, u.v);
+          if (!b || !(b->pdf > 0.f)) {
+            p.alive = false;
+            continue;
+          }
+          p.throughput = p.throughput * b->weight;
+          p.previous_pdf = b->pdf;
+          p.previous_delta = b->delta;
+          p.previous_normal = p.sp.n;
+          if (b->transmitted && has_medium(m)) p.medium = v.surface.front ? v.surface.material : no_material;
+          const float offset = detail::ray_offset(p.p, scene_size_);
+          p.org = p.p + (b->transmitted ? -p.sp.ng : p.sp.ng) * offset;
+          p.dir = b->wi;
         }
-        p.throughput = p.throughput * b->weight;
-        p.previous_pdf = b->pdf;
-        p.previous_delta = b->delta;
-        p.previous_normal = p.sp.n;
-        if (b->transmitted && has_medium(m)) p.medium = surface[i].front ? surface[i].material : no_material;
-        const float offset = detail::ray_offset(p.p, scene_size_);
-        p.org = p.p + (b->transmitted ? -p.sp.ng : p.sp.ng) * offset;
-        p.dir = b->wi;
         // Russian roulette: continue with the probability the path's throughput suggests.
         if (depth + 1 >= params_.roulette_path_length) {
           const float survive = std::min(0.95f, std::max({p.throughput.x, p.throughput.y, p.throughput.z}));
@@ -207,21 +236,67 @@ private:
     float volume_alpha = 0.f;            // opacity of the volumes in front of the camera's first hit
   };
 
-  /// Volumes along each path's current segment, up to `t_end`: their emission is added
-  /// and their opacity attenuates the path.
-  void through_volumes(Path* path, const Ray<F>& ray, const M& live, const F& t_end, int depth) const {
+  /// Where a path scatters next: off a surface, or inside a volume.
+  struct Vertex {
+    enum class Kind : std::uint8_t { none, surface, medium };
+    Kind kind = Kind::none;
+    SurfacePoint surface;        // kind surface
+    Vec3f albedo;                // kind medium: the part of the light scattered
+    float anisotropy = 0.f;      // kind medium: Henyey–Greenstein g
+  };
+
+  /// Independent uniform numbers for the lanes of live paths (others get 0.5).
+  F independent_uniforms(Path* path) const {
+    alignas(64) float u[W];
+    for (int i = 0; i < W; ++i) u[i] = path[i].alive ? path[i].rng.next_independent() : 0.5f;
+    return simd::load<Arch>(u);
+  }
+
+  /// The camera ray's volume opacity in front of `t_end`, integrated as scivis does.
+  void camera_volume_alpha(Path* path, const Ray<F>& ray, const M& live, const F& t_end) const {
     Vec3<F> color(splat(0.f)), transmittance(splat(1.f));
     detail::composite_volumes<Arch>(*world_, params_, detail::key_light_direction(params_.lights), ray, live, t_end,
                                     color, transmittance);
+    for (int i = 0; i < W; ++i)
+      path[i].volume_alpha = 1.f - (simd::lane(transmittance.x, i) + simd::lane(transmittance.y, i) +
+                                    simd::lane(transmittance.z, i)) / 3.f;
+  }
+
+  /// Delta tracking through every volume up to `t_end`: the nearest collision of each
+  /// lane (independent media superpose, so the nearest of their collisions is the
+  /// mixture's). Sets t_end to it and fills the lane's medium vertex.
+  M collide_with_volumes(Path* path, const Ray<F>& ray, const M& live, F& t_end, Vertex* vertex) const {
+    M collided(false);
+    Vec3<F> albedo(splat(0.f));
+    F anisotropy(0.f);
+    world_->for_each_volume([&](const auto& model) {
+      const auto c = model.template sample_collision<Arch>(ray, live, t_end, world_->clipping(),
+                                                           [&] { return independent_uniforms(path); });
+      collided = collided | c.hit;
+      t_end = simd::select(c.hit, c.t, t_end);
+      albedo = select(c.hit, c.albedo, albedo);
+      anisotropy = simd::select(c.hit, F(model.anisotropy()), anisotropy);
+    });
     for (int i = 0; i < W; ++i) {
-      Path& p = path[i];
-      if (!p.alive) continue;
-      const Vec3f c{simd::lane(color.x, i), simd::lane(color.y, i), simd::lane(color.z, i)};
-      const Vec3f t{simd::lane(transmittance.x, i), simd::lane(transmittance.y, i), simd::lane(transmittance.z, i)};
-      add(p, p.throughput * c, depth);
-      p.throughput = p.throughput * t;
-      if (depth == 0) p.volume_alpha = 1.f - (t.x + t.y + t.z) / 3.f;
+      if (!simd::lane(collided, i)) continue;
+      vertex[i].kind = Vertex::Kind::medium;
+      vertex[i].albedo = {simd::lane(albedo.x, i), simd::lane(albedo.y, i), simd::lane(albedo.z, i)};
+      vertex[i].anisotropy = simd::lane(anisotropy, i);
     }
+    return collided;
+  }
+
+  /// Transmittance through the volumes along the shadow rays of `lanes`, by ratio tracking.
+  F volume_transmittance(Path* path, const Ray<F>& ray, const M& lanes) const {
+    F transmittance(1.f);
+    if constexpr (requires { world_->volume_count(); })
+      world_->for_each_volume([&](const auto& model) {
+        const M tracking = lanes & (transmittance > F(0.f));
+        if (!simd::any(tracking)) return;
+        transmittance = transmittance * model.template transmittance<Arch>(ray, tracking, ray.tfar, world_->clipping(),
+                                                                           [&] { return independent_uniforms(path); });
+      });
+    return transmittance;
   }
 
   /// A surface's material; without one, a white Lambertian that shows the geometry's
@@ -264,9 +339,9 @@ private:
     }
   }
 
-  /// Next-event estimation: one sample of every light for every path at a surface, the
-  /// shadow rays of one light traced as a packet.
-  void sample_lights(Path* path, const SurfacePoint* surface, const bool* has_surface) const {
+  /// Next-event estimation: one sample of every light for every path at a vertex, the
+  /// shadow rays of one light traced as a packet and attenuated by the volumes they cross.
+  void sample_lights(Path* path, const Vertex* vertex) const {
     constexpr float inf = std::numeric_limits<float>::infinity();
     for (const Light& light : params_.lights) {
       // Without light sampling only BSDF-sampled rays find lights; delta lights then vanish.
@@ -278,21 +353,32 @@ private:
         for (auto& c : ray_lanes) c[i] = 0.f;
         contribution[i] = splat(0.f);
         Path& p = path[i];
-        if (!p.alive || !has_surface[i]) continue;
+        const Vertex& v = vertex[i];
+        if (!p.alive || v.kind == Vertex::Kind::none) continue;
+        const bool medium = v.kind == Vertex::Kind::medium;
         const auto u = p.rng.next_2d();
-        const std::optional<LightSample> ls = sample(light, p.p, p.sp.n, u.u, u.v);
+        const std::optional<LightSample> ls = sample(light, p.p, medium ? splat(0.f) : p.sp.n, u.u, u.v);
         if (!ls) continue;
-        const BsdfValue f = eval(material(surface[i]), p.sp, -p.dir, ls->dir);
+        BsdfValue f;
+        if (medium) {
+          f.pdf = henyey_greenstein(dot(p.dir, ls->dir), v.anisotropy);
+          f.f_cos = splat(f.pdf);
+        } else {
+          f = eval(material(v.surface), p.sp, -p.dir, ls->dir);
+        }
         if (!(std::max({f.f_cos.x, f.f_cos.y, f.f_cos.z}) > 0.f)) continue;
         const float w = std::isfinite(ls->pdf) && params_.light_sampling == LightSampling::mis
                             ? power_heuristic(ls->pdf, f.pdf)
                             : 1.f;
         contribution[i] = p.throughput * f.f_cos * ls->weight * w;
-        const bool below = dot(ls->dir, p.sp.ng) < 0.f;  // transmission: leave from the other side
-        const Vec3f org = p.p + (below ? -p.sp.ng : p.sp.ng) * detail::ray_offset(p.p, scene_size_);
-        const float v[7] = {org.x, org.y, org.z, ls->dir.x, ls->dir.y, ls->dir.z,
+        Vec3f org = p.p;
+        if (!medium) {
+          const bool below = dot(ls->dir, p.sp.ng) < 0.f;  // transmission: leave from the other side
+          org = org + (below ? -p.sp.ng : p.sp.ng) * detail::ray_offset(p.p, scene_size_);
+        }
+        const float c[7] = {org.x, org.y, org.z, ls->dir.x, ls->dir.y, ls->dir.z,
                             std::isfinite(ls->dist) ? ls->dist * (1.f - 1e-4f) : inf};
-        for (int c = 0; c < 7; ++c) ray_lanes[c][i] = v[c];
+        for (int k = 0; k < 7; ++k) ray_lanes[k][i] = c[k];
         any = true;
       }
       if (!any) continue;
@@ -305,9 +391,10 @@ private:
       shadow.tnear = F(0.f);
       shadow.tfar = simd::load<Arch>(ray_lanes[6]);
       const M cast = simd::load<Arch>(wanted) > F(0.f);
-      const M blocked = accel::occluded<Arch>(world_->scene(), shadow, cast, false, world_->hit_filter());
+      const M unblocked = cast & !accel::occluded<Arch>(world_->scene(), shadow, cast, false, world_->hit_filter());
+      const F transmittance = volume_transmittance(path, shadow, unblocked);
       for (int i = 0; i < W; ++i)
-        if (wanted[i] > 0.f && !simd::lane(blocked, i)) add(path[i], contribution[i], 1);
+        if (simd::lane(unblocked, i)) add(path[i], contribution[i] * simd::lane(transmittance, i), 1);
     }
   }
 

@@ -18,8 +18,10 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "sciray/error.hpp"
@@ -62,11 +64,14 @@ class VolumetricModel {
 public:
   static constexpr std::int64_t macrocell_cells = 8;
 
-  VolumetricModel(std::shared_ptr<const Volume> volume, TransferFunction transfer_function, float density_scale = 1.f)
-      : volume_(std::move(volume)), tf_(std::move(transfer_function)), density_scale_(density_scale) {
+  VolumetricModel(std::shared_ptr<const Volume> volume, TransferFunction transfer_function, float density_scale = 1.f,
+                  float anisotropy = 0.f)
+      : volume_(std::move(volume)), tf_(std::move(transfer_function)), density_scale_(density_scale),
+        anisotropy_(0.f) {
     if (!volume_) throw Error("volumetric model: 'volume' is missing");
     if (!(density_scale_ >= 0.f) || !std::isfinite(density_scale_))
       throw Error("volumetric model: 'densityScale' must be finite and not negative");
+    set_anisotropy(anisotropy);
     build_macrocell_ranges();
     derive_macrocell_opacities();
   }
@@ -74,8 +79,17 @@ public:
   const Volume& volume() const { return *volume_; }
   const TransferFunction& transfer_function() const { return tf_; }
   float density_scale() const { return density_scale_; }
+  /// Henyey–Greenstein g of the phase function: > 0 scatters forward, < 0 back.
+  float anisotropy() const { return anisotropy_; }
+  /// The largest extinction σ anywhere in the volume (per world unit).
+  float majorant() const { return majorant_; }
   Box3f bounds() const { return volume_->bounds(); }
   std::size_t owned_bytes() const { return (ranges_.size() * 2 + opacity_.size()) * sizeof(float); }
+
+  void set_anisotropy(float g) {
+    if (!(g >= -1.f && g <= 1.f)) throw Error("volumetric model: 'anisotropy' must be in [-1, 1], got " + std::to_string(g));
+    anisotropy_ = g;
+  }
 
   /// A new transfer function keeps the macrocell value ranges (the volume is unchanged).
   void set_transfer_function(TransferFunction tf) {
@@ -97,12 +111,8 @@ public:
     using F = simd::Float<Arch>;
     using I = simd::Int<Arch>;
     VolumeSample<Arch> out{Vec3<F>(Vec3f{0.f, 0.f, 0.f}), F(0.f)};
-    const Box3f box = bounds();
     const Vec3<F> inv{F(1.f) / ray.dir.x, F(1.f) / ray.dir.y, F(1.f) / ray.dir.z};
-    const Vec3<F> t0 = (Vec3<F>(box.lower) - ray.org) * inv, t1 = (Vec3<F>(box.upper) - ray.org) * inv;
-    const Vec3<F> near = min(t0, t1), far = max(t0, t1);
-    const F enter = simd::max(simd::max(simd::max(near.x, near.y), near.z), ray.tnear);
-    const F leave = simd::min(simd::min(simd::min(far.x, far.y), far.z), simd::min(t_end, ray.tfar));
+    const auto [enter, leave] = span<Arch>(ray, inv, t_end);
     auto live = active & (enter < leave);
     if (!simd::any(live)) return out;
 
@@ -189,7 +199,108 @@ public:
     return out;
   }
 
+  /// Where light travelling along each active lane first collides with the medium
+  /// before `t_end`, by delta tracking: tentative collisions at the majorant's rate,
+  /// each real with probability σ/majorant. `uniform()` returns a packet of independent
+  /// uniform numbers in [0, 1).
+  template <class Arch>
+  struct Collision {
+    simd::Mask<Arch> hit;
+    simd::Float<Arch> t;
+    Vec3<simd::Float<Arch>> albedo;  ///< the transfer function's colour there, at most 1
+  };
+  template <class Arch, class Uniform>
+  Collision<Arch> sample_collision(const Ray<simd::Float<Arch>>& ray, const simd::Mask<Arch>& active,
+                                   const simd::Float<Arch>& t_end, const Clipping* clipping, Uniform&& uniform) const {
+    using F = simd::Float<Arch>;
+    constexpr float inf = std::numeric_limits<float>::infinity();
+    Collision<Arch> out{simd::Mask<Arch>(false), F(inf), Vec3<F>(Vec3f{0.f, 0.f, 0.f})};
+    const Vec3<F> inv{F(1.f) / ray.dir.x, F(1.f) / ray.dir.y, F(1.f) / ray.dir.z};
+    auto [t, leave] = span<Arch>(ray, inv, t_end);
+    auto tracking = active & (t < leave);
+    if (!(majorant_ > 0.f)) return out;
+    while (simd::any(tracking)) {
+      t = t + free_flight<Arch>(uniform());
+      tracking = tracking & (t < leave);
+      if (!simd::any(tracking)) break;
+      const Vec3<F> p = ray.org + ray.dir * t;
+      const F value = volume_->template sample<Arch>(p);
+      const F sigma = extinction<Arch>(value, p, tracking, clipping);
+      const auto real = tracking & (uniform() * F(majorant_) < sigma);
+      if (simd::any(real)) {
+        const Vec3<F> c = tf_.template color<Arch>(value);
+        const Vec3<F> albedo{simd::min(c.x, F(1.f)), simd::min(c.y, F(1.f)), simd::min(c.z, F(1.f))};
+        out.hit = out.hit | real;
+        out.t = simd::select(real, t, out.t);
+        out.albedo = select(real, albedo, out.albedo);
+        tracking = tracking & !real;
+      }
+    }
+    return out;
+  }
+
+  /// An unbiased estimate of the transmittance exp(-∫σ) along each active lane up to
+  /// `t_end`, by ratio tracking: the product of (1 − σ/majorant) over tentative
+  /// collisions, ended by Russian roulette once it is small.
+  template <class Arch, class Uniform>
+  simd::Float<Arch> transmittance(const Ray<simd::Float<Arch>>& ray, const simd::Mask<Arch>& active,
+                                  const simd::Float<Arch>& t_end, const Clipping* clipping, Uniform&& uniform) const {
+    using F = simd::Float<Arch>;
+    constexpr float roulette_below = 0.1f;
+    F estimate(1.f);
+    const Vec3<F> inv{F(1.f) / ray.dir.x, F(1.f) / ray.dir.y, F(1.f) / ray.dir.z};
+    auto [t, leave] = span<Arch>(ray, inv, t_end);
+    auto tracking = active & (t < leave);
+    if (!(majorant_ > 0.f)) return estimate;
+    while (simd::any(tracking)) {
+      t = t + free_flight<Arch>(uniform());
+      tracking = tracking & (t < leave);
+      if (!simd::any(tracking)) break;
+      const Vec3<F> p = ray.org + ray.dir * t;
+      const F sigma = extinction<Arch>(volume_->template sample<Arch>(p), p, tracking, clipping);
+      estimate = simd::select(tracking, estimate * simd::max(F(1.f) - sigma * F(1.f / majorant_), F(0.f)), estimate);
+      // Small estimates survive with probability 1/2 at twice their value.
+      const auto small = tracking & (estimate < F(roulette_below));
+      if (simd::any(small)) {
+        const auto killed = small & (uniform() < F(0.5f));
+        estimate = simd::select(killed, F(0.f), simd::select(small, estimate * F(2.f), estimate));
+      }
+      tracking = tracking & (estimate > F(0.f));
+    }
+    return estimate;
+  }
+
 private:
+  /// Where each ray enters and leaves the volume's box, within [tnear, min(t_end, tfar)].
+  template <class Arch>
+  std::pair<simd::Float<Arch>, simd::Float<Arch>> span(const Ray<simd::Float<Arch>>& ray,
+                                                       const Vec3<simd::Float<Arch>>& inv,
+                                                       const simd::Float<Arch>& t_end) const {
+    using F = simd::Float<Arch>;
+    const Box3f box = bounds();
+    const Vec3<F> t0 = (Vec3<F>(box.lower) - ray.org) * inv, t1 = (Vec3<F>(box.upper) - ray.org) * inv;
+    const Vec3<F> near = min(t0, t1), far = max(t0, t1);
+    return {simd::max(simd::max(simd::max(near.x, near.y), near.z), ray.tnear),
+            simd::min(simd::min(simd::min(far.x, far.y), far.z), simd::min(t_end, ray.tfar))};
+  }
+
+  /// A distance to the next tentative collision at the majorant's rate, from u in [0, 1).
+  template <class Arch>
+  simd::Float<Arch> free_flight(const simd::Float<Arch>& u) const {
+    using F = simd::Float<Arch>;
+    return -log(F(1.f) - u) * F(1.f / majorant_);
+  }
+
+  /// σ at positions `p` whose filtered values are `value`; none inside clipped regions.
+  template <class Arch>
+  simd::Float<Arch> extinction(const simd::Float<Arch>& value, const Vec3<simd::Float<Arch>>& p,
+                               const simd::Mask<Arch>& lanes, const Clipping* clipping) const {
+    using F = simd::Float<Arch>;
+    const F sigma = tf_.template opacity<Arch>(value) * F(density_scale_);
+    if (!clipping) return sigma;
+    return simd::select(clipped<Arch>(p, lanes, *clipping), F(0.f), sigma);
+  }
+
   template <class F>
   static Vec3<F> select_positive(const Vec3<F>& dir, const Vec3<F>& a, const Vec3<F>& b) {
     return {simd::select(dir.x >= F(0.f), a.x, b.x), simd::select(dir.y >= F(0.f), a.y, b.y),
@@ -208,6 +319,13 @@ private:
       return std::exp(x);
     else
       return xsimd::exp(x);
+  }
+  template <class F>
+  static F log(const F& x) {
+    if constexpr (std::is_same_v<F, float>)
+      return std::log(x);
+    else
+      return xsimd::log(x);
   }
 
   /// Which lanes' positions lie in a clipped region (tested lane by lane: clipping
@@ -278,13 +396,18 @@ private:
 
   void derive_macrocell_opacities() {
     opacity_.resize(ranges_.size() / 2);
-    for (std::size_t i = 0; i < opacity_.size(); ++i)
+    majorant_ = 0.f;
+    for (std::size_t i = 0; i < opacity_.size(); ++i) {
       opacity_[i] = density_scale_ * tf_.max_opacity(ranges_[2 * i], ranges_[2 * i + 1]);
+      majorant_ = std::max(majorant_, opacity_[i]);
+    }
   }
 
   std::shared_ptr<const Volume> volume_;
   TransferFunction tf_;
   float density_scale_;
+  float anisotropy_;
+  float majorant_ = 0.f;
   std::array<std::int64_t, 3> cells_{};
   std::vector<float> ranges_;   ///< min, max per macrocell
   std::vector<float> opacity_;  ///< the largest σ the transfer function gives inside
