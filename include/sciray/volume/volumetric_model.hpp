@@ -200,9 +200,9 @@ public:
   }
 
   /// Where light travelling along each active lane first collides with the medium
-  /// before `t_end`, by delta tracking: tentative collisions at the majorant's rate,
-  /// each real with probability σ/majorant. `uniform()` returns a packet of independent
-  /// uniform numbers in [0, 1).
+  /// before `t_end`, by delta tracking: tentative collisions at the macrocell's majorant
+  /// rate, each real with probability σ/majorant. `uniform()` returns a packet of
+  /// independent uniform numbers in [0, 1).
   template <class Arch>
   struct Collision {
     simd::Mask<Arch> hit;
@@ -213,29 +213,21 @@ public:
   Collision<Arch> sample_collision(const Ray<simd::Float<Arch>>& ray, const simd::Mask<Arch>& active,
                                    const simd::Float<Arch>& t_end, const Clipping* clipping, Uniform&& uniform) const {
     using F = simd::Float<Arch>;
-    constexpr float inf = std::numeric_limits<float>::infinity();
-    Collision<Arch> out{simd::Mask<Arch>(false), F(inf), Vec3<F>(Vec3f{0.f, 0.f, 0.f})};
-    const Vec3<F> inv{F(1.f) / ray.dir.x, F(1.f) / ray.dir.y, F(1.f) / ray.dir.z};
-    auto [t, leave] = span<Arch>(ray, inv, t_end);
-    auto tracking = active & (t < leave);
-    if (!(majorant_ > 0.f)) return out;
-    while (simd::any(tracking)) {
-      t = t + free_flight<Arch>(uniform());
-      tracking = tracking & (t < leave);
-      if (!simd::any(tracking)) break;
+    using M = simd::Mask<Arch>;
+    Collision<Arch> out{M(false), F(std::numeric_limits<float>::infinity()), Vec3<F>(Vec3f{0.f, 0.f, 0.f})};
+    track<Arch>(ray, active, t_end, uniform, [&](const M& lanes, const F& t, const F& majorant) {
       const Vec3<F> p = ray.org + ray.dir * t;
       const F value = volume_->template sample<Arch>(p);
-      const F sigma = extinction<Arch>(value, p, tracking, clipping);
-      const auto real = tracking & (uniform() * F(majorant_) < sigma);
+      const M real = lanes & (uniform() * majorant < extinction<Arch>(value, p, lanes, clipping));
       if (simd::any(real)) {
         const Vec3<F> c = tf_.template color<Arch>(value);
-        const Vec3<F> albedo{simd::min(c.x, F(1.f)), simd::min(c.y, F(1.f)), simd::min(c.z, F(1.f))};
         out.hit = out.hit | real;
         out.t = simd::select(real, t, out.t);
-        out.albedo = select(real, albedo, out.albedo);
-        tracking = tracking & !real;
+        out.albedo = select(real, Vec3<F>{simd::min(c.x, F(1.f)), simd::min(c.y, F(1.f)), simd::min(c.z, F(1.f))},
+                            out.albedo);
       }
-    }
+      return lanes & !real;
+    });
     return out;
   }
 
@@ -246,27 +238,21 @@ public:
   simd::Float<Arch> transmittance(const Ray<simd::Float<Arch>>& ray, const simd::Mask<Arch>& active,
                                   const simd::Float<Arch>& t_end, const Clipping* clipping, Uniform&& uniform) const {
     using F = simd::Float<Arch>;
+    using M = simd::Mask<Arch>;
     constexpr float roulette_below = 0.1f;
     F estimate(1.f);
-    const Vec3<F> inv{F(1.f) / ray.dir.x, F(1.f) / ray.dir.y, F(1.f) / ray.dir.z};
-    auto [t, leave] = span<Arch>(ray, inv, t_end);
-    auto tracking = active & (t < leave);
-    if (!(majorant_ > 0.f)) return estimate;
-    while (simd::any(tracking)) {
-      t = t + free_flight<Arch>(uniform());
-      tracking = tracking & (t < leave);
-      if (!simd::any(tracking)) break;
+    track<Arch>(ray, active, t_end, uniform, [&](const M& lanes, const F& t, const F& majorant) {
       const Vec3<F> p = ray.org + ray.dir * t;
-      const F sigma = extinction<Arch>(volume_->template sample<Arch>(p), p, tracking, clipping);
-      estimate = simd::select(tracking, estimate * simd::max(F(1.f) - sigma * F(1.f / majorant_), F(0.f)), estimate);
+      const F sigma = extinction<Arch>(volume_->template sample<Arch>(p), p, lanes, clipping);
+      estimate = simd::select(lanes, estimate * simd::max(F(1.f) - sigma / majorant, F(0.f)), estimate);
       // Small estimates survive with probability 1/2 at twice their value.
-      const auto small = tracking & (estimate < F(roulette_below));
+      const M small = lanes & (estimate < F(roulette_below));
       if (simd::any(small)) {
-        const auto killed = small & (uniform() < F(0.5f));
+        const M killed = small & (uniform() < F(0.5f));
         estimate = simd::select(killed, F(0.f), simd::select(small, estimate * F(2.f), estimate));
       }
-      tracking = tracking & (estimate > F(0.f));
-    }
+      return lanes & (estimate > F(0.f));
+    });
     return estimate;
   }
 
@@ -284,11 +270,57 @@ private:
             simd::min(simd::min(simd::min(far.x, far.y), far.z), simd::min(t_end, ray.tfar))};
   }
 
-  /// A distance to the next tentative collision at the majorant's rate, from u in [0, 1).
-  template <class Arch>
-  simd::Float<Arch> free_flight(const simd::Float<Arch>& u) const {
+  /// Walks each active lane through the macrocells from where it enters the volume to
+  /// `t_end`, drawing tentative collisions at each macrocell's majorant (the largest σ
+  /// its values can give): none in macrocells that cannot absorb, few where the medium is
+  /// thin. At a macrocell's exit a lane starts afresh with the next one's majorant (the
+  /// exponential distribution has no memory). `at_tentative(lanes, t, majorant)` returns
+  /// the lanes that go on.
+  template <class Arch, class Uniform, class AtTentative>
+  void track(const Ray<simd::Float<Arch>>& ray, const simd::Mask<Arch>& active, const simd::Float<Arch>& t_end,
+             Uniform& uniform, AtTentative&& at_tentative) const {
     using F = simd::Float<Arch>;
-    return -log(F(1.f) - u) * F(1.f / majorant_);
+    using I = simd::Int<Arch>;
+    constexpr float inf = std::numeric_limits<float>::infinity();
+    const Vec3<F> inv{F(1.f) / ray.dir.x, F(1.f) / ray.dir.y, F(1.f) / ray.dir.z};
+    auto [t, leave] = span<Arch>(ray, inv, t_end);
+    auto tracking = active & (t < leave);
+    if (!(majorant_ > 0.f)) return;
+    const auto& grid = volume_->grid();
+    const Vec3f cell_size = grid.spacing * static_cast<float>(macrocell_cells);
+    const Vec3f grid_lower = grid.cell_centered ? grid.origin + grid.spacing * 0.5f : grid.origin;
+    // Probing a little past t finds the macrocell a lane is entering, not the one it leaves.
+    const float nudge = 1e-4f * std::min({grid.spacing.x, grid.spacing.y, grid.spacing.z});
+    while (simd::any(tracking)) {
+      const Vec3<F> m = volume_->to_voxel(ray.org + ray.dir * (t + F(nudge))) * F(1.f / macrocell_cells);
+      const auto cell_index = [&](const F& v, int axis) {
+        return simd::to_int(simd::min(simd::max(v, F(0.f)), F(static_cast<float>(cells_[axis] - 1))));
+      };
+      const I cx = cell_index(m.x, 0), cy = cell_index(m.y, 1), cz = cell_index(m.z, 2);
+      const I index = (cz * I(static_cast<std::int32_t>(cells_[1])) + cy) * I(static_cast<std::int32_t>(cells_[0])) + cx;
+      const F majorant = simd::gather<Arch>(opacity_.data(), index);
+      // The outermost macrocells reach on to the box's faces (and past them: `leave` stops
+      // the lane there), so that no lane is left outside every macrocell.
+      const auto planes = [&](const I& c, int axis, float origin, float size, F& lo, F& hi) {
+        const F cf = simd::to_float(c);
+        lo = simd::select(cf == F(0.f), F(-inf), F(origin) + cf * F(size));
+        hi = simd::select(cf == F(static_cast<float>(cells_[axis] - 1)), F(inf), F(origin) + (cf + F(1.f)) * F(size));
+      };
+      Vec3<F> lower, upper;
+      planes(cx, 0, grid_lower.x, cell_size.x, lower.x, upper.x);
+      planes(cy, 1, grid_lower.y, cell_size.y, lower.y, upper.y);
+      planes(cz, 2, grid_lower.z, cell_size.z, lower.z, upper.z);
+      // By the sign of inv, not of dir: a direction of -0 has inv = -inf and leaves by lower.
+      const Vec3<F> te = (select_positive(inv, upper, lower) - ray.org) * inv;
+      // At least a nudge on (also where a plane is parallel to the ray and te is NaN).
+      const F exit = simd::max(simd::min(simd::min(te.x, te.y), te.z), t + F(nudge));
+      const F flight = simd::select(majorant > F(0.f), -log(F(1.f) - uniform()) / majorant, F(inf));
+      const F next = t + flight;
+      const auto tentative = tracking & (next < exit) & (next < leave);
+      t = simd::select(tracking, simd::min(next, exit), t);
+      tracking = tracking & (t < leave);
+      if (simd::any(tentative)) tracking = (tracking & !tentative) | at_tentative(tentative, t, majorant);
+    }
   }
 
   /// σ at positions `p` whose filtered values are `value`; none inside clipped regions.
