@@ -15,6 +15,14 @@
 // midpoint lies before the macrocell's exit, so skipping changes which samples are taken
 // but never their positions. The macrocell ranges are built once per volume; changing the transfer
 // function only re-derives the opacities.
+//
+// The path tracer instead treats the volume as a participating medium: extinction σ as
+// above, single-scattering albedo from the transfer function's colour (at most 1), and a
+// Henyey–Greenstein phase function of `anisotropy`. It samples where light collides by
+// delta tracking and estimates transmittance by ratio tracking (Woodcock 1965; Novák et
+// al. 2014). Both draw tentative collisions at a majorant of σ, the macrocell's largest
+// extinction (the bound empty-space skipping uses), so they pass empty macrocells in one
+// step and take no step length: no quadrature error, no bias.
 #include <algorithm>
 #include <array>
 #include <cmath>
