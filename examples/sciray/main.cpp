@@ -10,7 +10,8 @@
 //                 [--iso V]... [--slice a,b,c,d]... [--preintegration] [--adaptive-sampling]
 //                 [--no-empty-space-skipping]
 //                 [--renderer scivis|ao|pathtracer] [--spp N] [--shadows] [--ao-samples N] [--ao-distance D]
-//                 [--max-path-length N] [--material JSON]... [--light JSON]... [--background r,g,b,a]
+//                 [--max-path-length N] [--material JSON]... [--texcoord-from PROPERTY] [--light JSON]...
+//                 [--background r,g,b,a]
 //                 [--pixel-filter point|box|gauss|mitchell|blackman_harris] [--error-target E] [--tonemap]
 //                 [--aperture R] [--focus D] [--panoramic]
 #include <chrono>
@@ -112,6 +113,7 @@ struct RenderOptions {
   float ao_distance = 1e20f;
   int max_path_length = 20;
   std::vector<std::string> materials;  ///< JSON (or files), geometry k gets material k (the last one the rest)
+  std::string texcoord_from;           ///< PLY vertex scalar to make texture coordinates from
   std::vector<std::string> lights;     ///< JSON (or files); replace the default lights
   std::string background;              ///< "r,g,b,a"
   std::string pixel_filter = "gauss";
@@ -233,8 +235,11 @@ int render(const RenderOptions& opt) {
       scene.spheres = std::move(molecule.atoms);
       scene.curves = std::move(molecule.bonds);
     } else if (!is_volume_file(opt.mesh)) {
-      scene.mesh = sciray::io::read_ply(opt.mesh);
+      scene.mesh = sciray::io::read_ply(opt.mesh, {opt.texcoord_from});
     }
+    if (!opt.texcoord_from.empty() && (opt.mesh.empty() || opt.mesh.rfind("builtin:", 0) == 0 ||
+                                       std::filesystem::path(opt.mesh).extension() == ".pdb" || is_volume_file(opt.mesh)))
+      throw sciray::Error("--texcoord-from: needs a PLY mesh, whose vertex property it reads");
 
     sciray::accel::Device device;
     sciray::shim::EngineWorld world(device);
@@ -439,7 +444,11 @@ int main(int argc, char** argv) {
   render_cmd->add_option("--max-path-length", opt.max_path_length, "surfaces a path passes or bounces (maxPathLength)");
   render_cmd->add_option("--material", opt.materials,
                          "material JSON (or a file) with OSPRay's names, e.g. '{\"type\":\"principled\",\"roughness\":0.2}'; "
-                         "the k-th shades the k-th geometry, the last the rest (repeatable)");
+                         "the k-th shades the k-th geometry, the last the rest (repeatable); maps are image files, "
+                         "e.g. '{\"type\":\"obj\",\"map_kd\":\"colormap.png\"}'");
+  render_cmd->add_option("--texcoord-from", opt.texcoord_from,
+                         "PLY meshes: make texture coordinates from this per-vertex scalar property (u over its range, "
+                         "v = 0.5), to colour the mesh by it through a colour-map image as map_kd");
   render_cmd->add_option("--light", opt.lights,
                          "light JSON (or a file) with OSPRay's names, e.g. '{\"type\":\"sphere\",\"position\":[0,2,0]}'; "
                          "replaces the default lights (repeatable)");

@@ -2,12 +2,16 @@
 // Materials and lights for the `sciray` tool, from JSON objects that use OSPRay's type
 // and parameter names: {"type": "principled", "baseColor": [0.8, 0.1, 0.1], "roughness": 0.3}
 // or {"type": "sphere", "position": [0, 2, 0], "radius": 0.2, "intensity": 10}.
+// A material's maps are image files (PNG or PFM): {"type": "obj", "map_kd": "colormap.png"},
+// with OSPRay's "map_kd.rotation" (degrees), "map_kd.scale" and "map_kd.translation" ([u, v]).
 #include <fstream>
 #include <set>
 #include <string>
 
 #include <nlohmann/json.hpp>
 
+#include "sciray/io/image.hpp"
+#include "sciray/math/color.hpp"
 #include "sciray/render/light.hpp"
 #include "sciray/render/material.hpp"
 
@@ -46,6 +50,50 @@ public:
       throw sciray::Error(what_ + ": \"" + key + "\" must be a number or an array of 3 numbers");
     v = {a[0].get<float>(), a[1].get<float>(), a[2].get<float>()};
   }
+  void read(const char* key, sciray::TexCoord<float>& v) {
+    if (!take(key)) return;
+    const auto& a = j_[key];
+    if (!a.is_array() || a.size() != 2 || !a[0].is_number() || !a[1].is_number())
+      throw sciray::Error(what_ + ": \"" + key + "\" must be an array of 2 numbers");
+    v = {a[0].get<float>(), a[1].get<float>()};
+  }
+  /// A map `key`: an image file, with its rotation, scale and translation. PNG colour maps
+  /// hold sRGB values and are made linear; scalar maps are read as they are.
+  void read_map(const std::string& key, sciray::TextureMap& map, bool color) {
+    if (!take(key.c_str())) return;
+    if (!j_[key].is_string()) throw sciray::Error(what_ + ": \"" + key + "\" must be an image file name");
+    const std::string file = j_[key].get<std::string>();
+    sciray::io::Image image;
+    try {
+      image = sciray::io::read_image(file);
+    } catch (const sciray::Error& e) {
+      throw sciray::Error(what_ + ": \"" + key + "\": " + e.what());
+    }
+    const bool srgb = color && std::filesystem::path(file).extension() == ".png";
+    // Row 0 of a texture is its bottom (v = 0); an image file's is its top.
+    std::vector<sciray::Vec3f> texels(static_cast<std::size_t>(image.width) * image.height);
+    for (int y = 0; y < image.height; ++y)
+      for (int x = 0; x < image.width; ++x) {
+        float c[3];
+        for (int k = 0; k < 3; ++k) {
+          const float v = image.at(x, image.height - 1 - y, image.channels >= 3 ? k : 0);
+          c[k] = srgb ? sciray::srgb_to_linear(v) : v;
+        }
+        texels[static_cast<std::size_t>(y) * image.width + x] = {c[0], c[1], c[2]};
+      }
+    try {
+      map.texture = std::make_shared<const sciray::Texture2D>(image.width, image.height, std::move(texels));
+    } catch (const sciray::Error& e) {
+      throw sciray::Error(what_ + ": \"" + key + "\" (" + file + "): " + e.what());
+    }
+    float rotation = 0.f;
+    sciray::TexCoord<float> scale{1.f, 1.f}, translation{0.f, 0.f};
+    read((key + ".rotation").c_str(), rotation);
+    read((key + ".scale").c_str(), scale);
+    read((key + ".translation").c_str(), translation);
+    if (scale.u == 0.f || scale.v == 0.f) throw sciray::Error(what_ + ": \"" + key + ".scale\" must not be zero");
+    map.transform = sciray::TexCoordTransform::of_texture(rotation, scale, translation);
+  }
   /// Throws for keys nothing read: a misspelt parameter must not be silently ignored.
   void check_all_used() const {
     for (const auto& [key, value] : j_.items())
@@ -53,7 +101,7 @@ public:
   }
 
 private:
-  bool take(const char* key) {
+  bool take(const std::string& key) {
     used_.insert(key);
     return j_.contains(key);
   }
@@ -84,6 +132,10 @@ inline sciray::Material material_from_json(const nlohmann::json& j, const std::s
     throw sciray::Error(what + ": unknown material type '" + type +
                         "' (obj, principled, glass, thinGlass, metal, alloy, luminous)");
   sciray::for_each_parameter(*material, [&](const char* key, auto& field) { p.read(key, field); });
+  sciray::for_each_map(*material, [&](const char* key, sciray::TextureMap& map) {
+    const std::string name = key;
+    p.read_map(name, map, name == "map_kd" || name == "map_ks" || name == "map_baseColor");
+  });
   p.check_all_used();
   try {
     sciray::validate(*material);

@@ -278,8 +278,12 @@ TEST_CASE("bad lights, materials, textures and renderer parameters are named", "
   CHECK(api.messages.errors == std::vector<std::string>{});
   OSPMaterial textured = ospNewMaterial("obj");
   ospSetObject(textured, "map_kd", texture);
+  ospSetFloat(textured, "map_kd.scale", 2.f);
   ospCommit(textured);
-  api.expect_error("parameter 'map_kd': only volume textures are supported as maps yet");
+  api.expect_error("obj material: parameter 'map_kd.scale' must be a vec2f, got float");
+  ospRemoveParam(textured, "map_kd.scale");
+  ospCommit(textured);
+  CHECK(api.messages.errors == std::vector<std::string>{});
 
   OSPRenderer renderer = ospNewRenderer("scivis");
   ospSetInt(renderer, "aoSamples", -1);

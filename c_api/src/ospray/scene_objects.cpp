@@ -83,13 +83,57 @@ void Material::on_commit() {
   } catch (const Error& e) {
     throw Error(name() + ": " + e.what());
   }
-  Ref<TextureObject> map_kd = get_object<TextureObject>("map_kd", OSP_TEXTURE, false);
-  if (map_kd && !map_kd->committed()) throw Error(name() + ": parameter 'map_kd': its texture has not been committed");
-  if (map_kd && !map_kd->volume_model())
-    throw Error(name() + ": parameter 'map_kd': only volume textures are supported as maps yet (meshes carry no "
-                "texture coordinates)");
+  // Maps: texture2d images for every map of the type; a volume texture as obj map_kd only
+  // (it colours planes: slices). Each map's transform as OSPRay names it.
+  Ref<TextureObject> volume_map_kd;
+  std::vector<ImageMap> image_maps;
+  for_each_map(material, [&](const char* id, TextureMap&) {
+    const std::string map = id;
+    Ref<TextureObject> texture = get_object<TextureObject>(map, OSP_TEXTURE, false);
+    if (!texture) return;
+    if (!texture->committed()) throw Error(name() + ": parameter '" + map + "': its texture has not been committed");
+    if (texture->volume_model()) {
+      if (map != "map_kd")
+        throw Error(name() + ": parameter '" + map + "': a volume texture colours only an obj material's map_kd; "
+                             "give a texture2d");
+      volume_map_kd = std::move(texture);
+      return;
+    }
+    const auto vec2 = [&](const std::string& key, TexCoord<float> fallback) {
+      const Param* p = find(key);
+      if (!p) return fallback;
+      if (p->type != OSP_VEC2F) throw Error(name() + ": parameter '" + key + "' must be a vec2f, got " + type_name(p->type));
+      TexCoord<float> v;
+      std::memcpy(&v, p->bytes.data(), sizeof v);
+      return v;
+    };
+    TexCoordTransform transform;
+    if (const Param* p = find(map + ".transform")) {
+      if (p->type != OSP_AFFINE2F)
+        throw Error(name() + ": parameter '" + map + ".transform' must be an affine2f, got " + type_name(p->type));
+      std::memcpy(&transform, p->bytes.data(), sizeof transform);  // vx, vy, p: as OSPRay's affine2f
+    } else if (has(map + ".rotation") || has(map + ".scale") || has(map + ".translation")) {
+      const TexCoord<float> scale = vec2(map + ".scale", {1.f, 1.f});
+      if (!(scale.u != 0.f && scale.v != 0.f))
+        throw Error(name() + ": parameter '" + map + ".scale' must not be zero");
+      transform = TexCoordTransform::of_texture(get_float(map + ".rotation", 0.f), scale,
+                                                vec2(map + ".translation", {0.f, 0.f}));
+    }
+    if (!transform.finite()) throw Error(name() + ": parameter '" + map + "': its transform is not finite");
+    image_maps.push_back({map, std::move(texture), transform});
+  });
   material_ = std::move(material);
-  map_kd_ = std::move(map_kd);
+  volume_map_kd_ = std::move(volume_map_kd);
+  image_maps_ = std::move(image_maps);
+}
+
+sciray::Material Material::material() const {
+  sciray::Material m = material_;
+  for_each_map(m, [&](const char* id, TextureMap& map) {
+    for (const ImageMap& image : image_maps_)
+      if (image.name == id) map = {image.texture->image(), image.transform};
+  });
+  return m;
 }
 
 std::optional<Vec3f> Material::base_color() const {
@@ -99,13 +143,17 @@ std::optional<Vec3f> Material::base_color() const {
 }
 
 sciray::Material Material::without_base_color() const {
-  sciray::Material m = material_;
+  sciray::Material m = material();
   if (auto* obj = std::get_if<ObjMaterial>(&m)) obj->kd = {1.f, 1.f, 1.f};
   if (auto* principled = std::get_if<PrincipledMaterial>(&m)) principled->base_color = {1.f, 1.f, 1.f};
   return m;
 }
 
-std::uint64_t Material::version() const { return std::max(version_, map_kd_ ? map_kd_->version() : 0); }
+std::uint64_t Material::version() const {
+  std::uint64_t v = std::max(version_, volume_map_kd_ ? volume_map_kd_->version() : 0);
+  for (const ImageMap& image : image_maps_) v = std::max(v, image.texture->version());
+  return v;
+}
 
 namespace {
 
@@ -160,6 +208,7 @@ void Geometry::commit_mesh() {
   if (!index) throw Error(name() + ": required parameter 'index' (array of vec3ui or vec4ui) is missing");
   const Data* normal = get_data(*this, find("vertex.normal"), "vertex.normal", {OSP_VEC3F});
   const Data* color = get_data(*this, find("vertex.color"), "vertex.color", {OSP_VEC4F, OSP_VEC3F});
+  const Data* texcoord = get_data(*this, find("vertex.texcoord"), "vertex.texcoord", {OSP_VEC2F});
 
   // A copy, padded for Embree: the application's arrays carry no padding guarantee.
   auto mesh = std::make_shared<MeshData>();
@@ -175,6 +224,7 @@ void Geometry::commit_mesh() {
     }
   if (normal) append_floats(mesh->normals, *normal, 3);
   if (color) append_colors(mesh->vertex_colors, *color);
+  if (texcoord) append_floats(mesh->texcoords, *texcoord, 2);
   TriangleMesh check(mesh);
   check.validate();  // names the bad index or vertex: "mesh: 'index' of face 3 refers to ..."
   bounds_ = check.bounds();
@@ -186,6 +236,7 @@ void Geometry::commit_spheres() {
   const Data* position = get_data(*this, find("sphere.position"), "sphere.position", {OSP_VEC3F});
   if (!position) throw Error(name() + ": required parameter 'sphere.position' (array of vec3f) is missing");
   const Data* radius = get_data(*this, find("sphere.radius"), "sphere.radius", {OSP_FLOAT});
+  const Data* texcoord = get_data(*this, find("sphere.texcoord"), "sphere.texcoord", {OSP_VEC2F});
   const auto type = static_cast<SphereType>(
       get_enum(*this, get_int("type", OSP_SPHERE), "type", {"OSP_SPHERE", "OSP_DISC", "OSP_ORIENTED_DISC"}));
   // Normals orient discs only; otherwise the parameter is reported as unused.
@@ -207,6 +258,7 @@ void Geometry::commit_spheres() {
   if (radius) append_floats(data->radii, *radius, 1);
   data->radius = get_float("radius", 0.01f);
   if (normal) append_floats(data->normals, *normal, 3);
+  if (texcoord) append_floats(data->texcoords, *texcoord, 2);
   Spheres check(data);
   check.set_type(type).set_intersector(intersector);
   check.validate();  // "sphere: 'sphere.radius' 2 must be positive, got -1"
@@ -353,7 +405,7 @@ std::string format_vec(const Vec3f& v) {
 /// and every world build (the material may be recommitted later) check.
 std::string cannot_colour(const Geometry& geometry, const Material* material) {
   if (!material) return {};
-  if (material->map_kd() && !geometry.planes())
+  if (material->volume_map_kd() && !geometry.planes())
     return "its material's 'map_kd' (a volume texture) is not supported yet on " + geometry.subtype() +
            " geometry; volume textures colour plane geometry only (slices)";
   return {};
@@ -410,7 +462,7 @@ std::optional<Vec3f> GeometricModel::material_color() const {
   return material_->base_color();  // as last committed: a material commit reaches the world
 }
 
-TextureObject* GeometricModel::volume_texture() const { return material_ ? material_->map_kd() : nullptr; }
+TextureObject* GeometricModel::volume_texture() const { return material_ ? material_->volume_map_kd() : nullptr; }
 
 std::uint64_t GeometricModel::version() const {
   std::uint64_t v = version_;
@@ -1052,6 +1104,7 @@ Spheres model_spheres(const GeometricModel& model, std::vector<std::shared_ptr<c
   if (!d.radii.empty()) a.radii = {d.radii.data(), n, sizeof(float)};
   a.radius = d.radius;
   if (!d.normals.empty()) a.normals = {d.normals.data(), n, 3 * sizeof(float)};
+  if (!d.texcoords.empty()) a.texcoords = {d.texcoords.data(), n, 2 * sizeof(float)};
   // Spheres have no material colour of their own: kd multiplies the colours, as a mesh
   // shades its face colours.
   if (!model.face_colors().empty() || model.material_color()) {

@@ -134,7 +134,7 @@ private:
 /// colours the points of a surface by the volume's value there. As a material's `map_kd`
 /// it turns plane geometry into slices (the engine's VolumeSlice).
 /// And OSPRay's `texture2d`: an image (`data`, a 2D array in `format`), used by lights
-/// (`hdri` map) and renderers (`map_backplate`).
+/// (`hdri` map), renderers (`map_backplate`) and materials' maps (`map_kd`, ...).
 class TextureObject : public Object {
 public:
   explicit TextureObject(std::string type) : Object(OSP_TEXTURE, std::move(type)) {}
@@ -161,24 +161,33 @@ inline constexpr float default_kd = 0.8f;
 class Material : public Object {
 public:
   explicit Material(std::string type) : Object(OSP_MATERIAL, std::move(type)) {}
-  /// The engine material for the committed parameters.
-  const sciray::Material& material() const { return material_; }
+  /// The engine material for the committed parameters, its maps showing their textures'
+  /// current images.
+  sciray::Material material() const;
   /// The colour geometries bake into their own colours (obj `kd`, principled `baseColor`),
   /// none for materials whose colour is not a plain diffuse tint.
   std::optional<Vec3f> base_color() const;
   /// material() with its base colour white, for geometries that baked it in.
   sciray::Material without_base_color() const;
-  /// `map_kd`: a volume texture whose colour multiplies kd, or null.
-  TextureObject* map_kd() const { return map_kd_.get(); }
-  /// Also counts the texture's commits.
+  /// `map_kd` where it is a volume texture (whose colour multiplies kd), or null.
+  TextureObject* volume_map_kd() const { return volume_map_kd_.get(); }
+  /// Also counts the textures' commits.
   std::uint64_t version() const override;
 
 protected:
   void on_commit() override;
 
 private:
-  sciray::Material material_;
-  Ref<TextureObject> map_kd_;
+  /// A texture2d map: the material's map `name` shows `texture` through `transform`.
+  struct ImageMap {
+    std::string name;
+    Ref<TextureObject> texture;
+    TexCoordTransform transform;
+  };
+
+  sciray::Material material_;  ///< the parameters; maps are filled in by material()
+  Ref<TextureObject> volume_map_kd_;
+  std::vector<ImageMap> image_maps_;
 };
 
 /// The primitives of OSPRay's `box` geometry, as committed.
@@ -261,7 +270,7 @@ public:
   Material* material() const { return material_.get(); }
   /// The material's `kd`, if the model has a material.
   std::optional<Vec3f> material_color() const;
-  /// The material's `map_kd` volume texture, or null.
+  /// The material's `map_kd` when it is a volume texture, or null.
   TextureObject* volume_texture() const;
   /// Per-primitive colours (RGBA), or empty.
   const PaddedVector<float>& face_colors() const { return face_colors_; }

@@ -16,6 +16,7 @@ struct MeshData {
   PaddedVector<float> normals;          ///< x,y,z per vertex, or empty
   PaddedVector<float> vertex_colors;    ///< r,g,b,a per vertex in [0,1], or empty
   PaddedVector<float> face_colors;      ///< r,g,b,a per face in [0,1], or empty
+  PaddedVector<float> texcoords;        ///< u,v per vertex, or empty
 
   std::size_t vertex_count() const { return positions.size() / 3; }
   std::size_t face_count() const { return indices.size() / vertices_per_face; }

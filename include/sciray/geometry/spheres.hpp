@@ -32,6 +32,7 @@ struct SphereData {
   float radius = 0.01f;           ///< OSPRay's default
   PaddedVector<float> colors;     ///< r,g,b,a per sphere, or empty
   PaddedVector<float> normals;    ///< x,y,z per sphere, for oriented discs
+  PaddedVector<float> texcoords;  ///< u,v per sphere, or empty
 
   std::size_t count() const { return positions.size() / 3; }
 };
@@ -45,6 +46,7 @@ public:
     float radius = 0.01f;
     StridedView<float> colors;     ///< 4 floats per sphere, optional
     StridedView<float> normals;    ///< 3 floats per sphere, for oriented discs
+    StridedView<float> texcoords;  ///< 2 floats (u, v) per sphere, optional
   };
 
   explicit Spheres(SphereData data) : Spheres(std::make_shared<const SphereData>(std::move(data))) {}
@@ -56,7 +58,9 @@ public:
     arrays_.radius = d.radius;
     if (!d.colors.empty()) arrays_.colors = {d.colors.data(), d.colors.size() / 4, 4 * sizeof(float)};
     if (!d.normals.empty()) arrays_.normals = {d.normals.data(), d.normals.size() / 3, 3 * sizeof(float)};
-    owned_bytes_ = (d.positions.size() + d.radii.size() + d.colors.size() + d.normals.size()) * sizeof(float);
+    if (!d.texcoords.empty()) arrays_.texcoords = {d.texcoords.data(), d.texcoords.size() / 2, 2 * sizeof(float)};
+    owned_bytes_ =
+        (d.positions.size() + d.radii.size() + d.colors.size() + d.normals.size() + d.texcoords.size()) * sizeof(float);
     keep_alive_ = std::move(owned);
   }
 
@@ -92,6 +96,7 @@ public:
                       std::to_string(*a.radii.element(i)));
     }
     if (!a.colors.empty()) check_array("color", a.colors, count(), 4);
+    if (!a.texcoords.empty()) check_array("sphere.texcoord", a.texcoords, count(), 2);
     if (type_ == SphereType::oriented_disc) {
       if (a.normals.empty()) throw Error("sphere: type 'oriented disc' needs 'sphere.normal'");
       check_array("sphere.normal", a.normals, count(), 3);
@@ -158,6 +163,12 @@ public:
     SurfaceSample<Arch> s;
     s.normal = normalize(hit.ng);
     s.has_color = lanes;
+    if (!arrays_.texcoords.empty()) {
+      // One (u, v) per sphere, as OSPRay's sphere.texcoord.
+      const I at = simd::select(lanes, hit.prim_id, I(0)) *
+                   I(static_cast<std::int32_t>(arrays_.texcoords.byte_stride / sizeof(float)));
+      s.uv = {simd::gather<Arch>(arrays_.texcoords.data(), at), simd::gather<Arch>(arrays_.texcoords.data(), at + I(1))};
+    }
     if (arrays_.colors.empty()) {
       s.has_color = simd::Mask<Arch>(false);
       return s;

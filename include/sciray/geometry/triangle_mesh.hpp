@@ -32,6 +32,7 @@ public:
     StridedView<float> normals;            ///< 3 floats per vertex, optional
     StridedView<float> vertex_colors;      ///< 4 floats per vertex, optional
     StridedView<float> face_colors;        ///< 4 floats per face, optional
+    StridedView<float> texcoords;          ///< 2 floats (u, v) per vertex, optional
   };
 
   /// Takes ownership of loaded data (no copy: the vectors move into the mesh).
@@ -49,7 +50,9 @@ public:
       arrays_.vertex_colors = {d.vertex_colors.data(), d.vertex_colors.size() / 4, 4 * sizeof(float)};
     if (!d.face_colors.empty())
       arrays_.face_colors = {d.face_colors.data(), d.face_colors.size() / 4, 4 * sizeof(float)};
-    owned_bytes_ = (d.positions.size() + d.normals.size() + d.vertex_colors.size() + d.face_colors.size()) *
+    if (!d.texcoords.empty()) arrays_.texcoords = {d.texcoords.data(), d.texcoords.size() / 2, 2 * sizeof(float)};
+    owned_bytes_ = (d.positions.size() + d.normals.size() + d.vertex_colors.size() + d.face_colors.size() +
+                    d.texcoords.size()) *
                        sizeof(float) +
                    d.indices.size() * sizeof(std::uint32_t);
     keep_alive_ = std::move(owned);
@@ -111,6 +114,7 @@ public:
     check_optional("vertex.normal", a.normals, a.positions.count, 3, "vertices");
     check_optional("vertex.color", a.vertex_colors, a.positions.count, 4, "vertices");
     check_optional("color", a.face_colors, a.indices.count, 4, "faces");
+    check_optional("vertex.texcoord", a.texcoords, a.positions.count, 2, "vertices");
   }
 
   Box3f bounds() const {
@@ -137,7 +141,8 @@ public:
     return geometry.commit(device, "mesh");
   }
 
-  /// Interpolated normal and colour at the hits of lanes `lanes` (all hitting this mesh).
+  /// Interpolated normal, colour and texture coordinates at the hits of lanes `lanes`
+  /// (all hitting this mesh).
   template <class Arch>
   SurfaceSample<Arch> surface(const accel::Hit<Arch>& hit, const simd::Mask<Arch>& lanes) const {
     using F = simd::Float<Arch>;
@@ -163,6 +168,10 @@ public:
       w2 = simd::select(first, w2, F(1.f) - hit.v);
     }
     SurfaceSample<Arch> s;
+    if (!a.texcoords.empty()) {
+      const auto uv = interpolate<Arch, 2>(a.texcoords, i0, i1, i2, w0, w1, w2);
+      s.uv = {uv[0], uv[1]};
+    }
     if (!a.normals.empty()) {
       const auto n = interpolate<Arch, 3>(a.normals, i0, i1, i2, w0, w1, w2);
       s.normal = normalize(Vec3<F>{n[0], n[1], n[2]});

@@ -5,6 +5,12 @@
 // loops with no per-value dispatch; everything else takes a general path that walks each
 // property, which also skips unknown elements and properties. Every error names the file
 // and, where it applies, the element, entry, property and line (ascii) or byte offset.
+//
+// Vertex texture coordinates are read from `u`/`v`, `s`/`t` or `texture_u`/`texture_v`.
+// PlyOptions::texcoord_from instead makes them from any per-vertex scalar property (a
+// confidence, an intensity, a coordinate): u is its value mapped linearly from its range
+// to [0, 1], v is 0.5, so that a colour-map image as a material's map_kd colours the mesh
+// by that scalar, as VTK colours scalars through a 1D texture.
 #include <algorithm>
 #include <array>
 #include <bit>
@@ -487,11 +493,21 @@ enum Slot : int {
   slot_red,
   slot_green,
   slot_blue,
-  slot_alpha
+  slot_alpha,
+  slot_u,
+  slot_v,
+  slot_scalar  ///< the property PlyOptions::texcoord_from names
 };
-inline constexpr int slot_count = 10;
+inline constexpr int slot_count = 13;
 inline constexpr std::array<std::string_view, slot_count> slot_names = {
-    "x", "y", "z", "nx", "ny", "nz", "red", "green", "blue", "alpha"};
+    "x", "y", "z", "nx", "ny", "nz", "red", "green", "blue", "alpha", "u", "v", ""};
+
+/// Whether a property called `name` fills `slot` (texture coordinates go by three names).
+inline bool names_slot(std::string_view name, int slot) {
+  if (slot == slot_u) return name == "u" || name == "s" || name == "texture_u";
+  if (slot == slot_v) return name == "v" || name == "t" || name == "texture_v";
+  return name == slot_names[static_cast<std::size_t>(slot)];
+}
 
 /// Which property fills which slot, and how a colour property's values map to [0,1].
 struct Layout {
@@ -501,12 +517,15 @@ struct Layout {
   int index_list = -1;                           ///< face element: the vertex index list property
   bool has_normals = false;
   bool has_colors = false;
+  bool has_texcoords = false;  ///< u, v, or the scalar property that makes them
 
   bool has(int slot) const { return property_of_slot[static_cast<std::size_t>(slot)] >= 0; }
 };
 
-/// Maps the slots in [first_slot, last_slot] and checks their types and completeness.
-inline Layout make_layout(const Element& element, int first_slot, int last_slot, std::string_view file) {
+/// Maps the slots in [first_slot, last_slot] and checks their types and completeness;
+/// `scalar` names the property for slot_scalar (if any).
+inline Layout make_layout(const Element& element, int first_slot, int last_slot, std::string_view file,
+                          std::string_view scalar = {}) {
   Layout layout;
   layout.property_of_slot.fill(-1);
   layout.divisor.fill(1.0);
@@ -516,13 +535,17 @@ inline Layout make_layout(const Element& element, int first_slot, int last_slot,
   };
   for (std::size_t p = 0; p < element.properties.size(); ++p) {
     const Property& property = element.properties[p];
+    if (!scalar.empty() && property.name == scalar) {
+      if (property.is_list()) fail(file, where(property) + " must be a scalar, not a list, to make texture coordinates");
+      layout.property_of_slot[slot_scalar] = static_cast<int>(p);  // read as well as any slot it also fills
+    }
     for (int slot = first_slot; slot <= last_slot; ++slot) {
-      if (property.name != slot_names[static_cast<std::size_t>(slot)]) continue;
+      if (slot == slot_scalar || !names_slot(property.name, slot)) continue;
       if (layout.has(slot)) fail(file, where(property) + " is declared twice");
       if (property.is_list()) fail(file, where(property) + " must be a scalar, not a list");
       layout.property_of_slot[static_cast<std::size_t>(slot)] = static_cast<int>(p);
       layout.slot_of_property[p] = slot;
-      if (slot >= slot_red) {
+      if (slot >= slot_red && slot <= slot_alpha) {
         switch (property.type) {
           case ScalarType::uint8: layout.divisor[static_cast<std::size_t>(slot)] = 255.0; break;
           case ScalarType::uint16: layout.divisor[static_cast<std::size_t>(slot)] = 65535.0; break;
@@ -552,6 +575,13 @@ inline Layout make_layout(const Element& element, int first_slot, int last_slot,
         fail(file, "element '" + element.name + "' has no property '" +
                        std::string(slot_names[static_cast<std::size_t>(slot)]) + "'");
     layout.has_normals = require_group(slot_nx, slot_nz, "normal properties");
+    layout.has_texcoords = require_group(slot_u, slot_v, "texture coordinate properties");
+    if (!scalar.empty()) {
+      if (!layout.has(slot_scalar))
+        fail(file, "element '" + element.name + "' has no property '" + std::string(scalar) +
+                       "' to make texture coordinates from");
+      layout.has_texcoords = true;
+    }
   }
   layout.has_colors = require_group(slot_red, slot_blue, "colour properties");
   if (layout.has(slot_alpha) && !layout.has_colors)
@@ -595,6 +625,14 @@ void store_vertex(Source& source, const Where& where, const Layout& layout,
       mesh.vertex_colors[4 * v + static_cast<std::size_t>(channel)] =
           static_cast<float>(values[slot] / layout.divisor[slot]);
     }
+  if (layout.has_texcoords) {
+    const bool from_scalar = layout.has(slot_scalar);
+    const float u = static_cast<float>(values[from_scalar ? slot_scalar : slot_u]);
+    const float t = from_scalar ? 0.5f : static_cast<float>(values[slot_v]);
+    if (!std::isfinite(u) || !std::isfinite(t))
+      source.fail(where, "texture coordinates (" + std::to_string(u) + ", " + std::to_string(t) + ") are not finite");
+    mesh.texcoords[2 * v] = u, mesh.texcoords[2 * v + 1] = t;
+  }
 }
 
 /// Vertex records without lists: each attribute at a fixed offset of a fixed stride.
@@ -609,6 +647,8 @@ void read_fixed_vertices(BinarySource<Swap>& source, const Element& element, con
       offset[static_cast<std::size_t>(slot)] = running;
       type[static_cast<std::size_t>(slot)] = element.properties[p].type;
     }
+    if (layout.property_of_slot[slot_scalar] == static_cast<int>(p))
+      offset[slot_scalar] = running, type[slot_scalar] = element.properties[p].type;
     running += size_of(element.properties[p].type);
   }
   const std::byte* records = source.take_entries(element, entry_size);
@@ -644,6 +684,18 @@ void read_fixed_vertices(BinarySource<Swap>& source, const Element& element, con
         mesh.vertex_colors[4 * v + static_cast<std::size_t>(channel)] =
             static_cast<float>(value / layout.divisor[static_cast<std::size_t>(slot)]);
       }
+  if (layout.has_texcoords) {
+    const bool from_scalar = layout.has(slot_scalar);
+    for (std::size_t v = 0; v < element.count; ++v) {
+      const std::byte* record = records + v * entry_size;
+      const float u = static_cast<float>(load_slot(record, from_scalar ? slot_scalar : slot_u));
+      const float t = from_scalar ? 0.5f : static_cast<float>(load_slot(record, slot_v));
+      if (!std::isfinite(u) || !std::isfinite(t))
+        source.fail_at(record, Where{&element, v, nullptr},
+                       "texture coordinates (" + std::to_string(u) + ", " + std::to_string(t) + ") are not finite");
+      mesh.texcoords[2 * v] = u, mesh.texcoords[2 * v + 1] = t;
+    }
+  }
 }
 
 template <class Source>
@@ -658,6 +710,10 @@ void read_vertices(Source& source, const Element& element, const Layout& layout,
   if (layout.has_colors) {
     reserve_huge(mesh.vertex_colors, 4 * count);
     mesh.vertex_colors.resize(4 * count);
+  }
+  if (layout.has_texcoords) {
+    reserve_huge(mesh.texcoords, 2 * count);
+    mesh.texcoords.resize(2 * count);
   }
   if constexpr (Source::is_binary) {
     if (const auto entry_size = fixed_entry_size(element)) {
@@ -679,9 +735,15 @@ void read_vertices(Source& source, const Element& element, const Layout& layout,
     for (std::size_t p = 0; p < element.properties.size(); ++p) {
       const Property& property = element.properties[p];
       const Where where{&element, v, &property};
-      if (const int slot = layout.slot_of_property[p]; slot >= 0)
-        values[static_cast<std::size_t>(slot)] = source.scalar(property.type, where);
-      else skip_property(source, property, where);
+      const int slot = layout.slot_of_property[p];
+      const bool scalar = layout.property_of_slot[slot_scalar] == static_cast<int>(p);
+      if (slot < 0 && !scalar) {
+        skip_property(source, property, where);
+        continue;
+      }
+      const double value = source.scalar(property.type, where);
+      if (slot >= 0) values[static_cast<std::size_t>(slot)] = value;
+      if (scalar) values[slot_scalar] = value;
     }
     store_vertex(source, Where{&element, v, nullptr}, layout, values, mesh);
   }
@@ -834,7 +896,7 @@ struct MeshLayout {
   std::optional<Layout> face;
 };
 
-inline MeshLayout make_mesh_layout(const Header& header, std::string_view file) {
+inline MeshLayout make_mesh_layout(const Header& header, std::string_view file, std::string_view texcoord_from) {
   MeshLayout mesh;
   for (const Element& element : header.elements) {
     const Element** known = element.name == "vertex" ? &mesh.vertices
@@ -848,7 +910,7 @@ inline MeshLayout make_mesh_layout(const Header& header, std::string_view file) 
   if (mesh.vertices->count > std::numeric_limits<std::uint32_t>::max())
     fail(file, "element 'vertex' has " + std::to_string(mesh.vertices->count) +
                    " entries; vertex indices are 32-bit, so at most 4294967295 are supported");
-  mesh.vertex = make_layout(*mesh.vertices, slot_x, slot_alpha, file);
+  mesh.vertex = make_layout(*mesh.vertices, slot_x, slot_scalar, file, texcoord_from);
   if (mesh.faces) mesh.face = make_face_layout(*mesh.faces, file);
   return mesh;
 }
@@ -865,30 +927,54 @@ MeshData read_elements(Source& source, const Header& header, const MeshLayout& l
   return mesh;
 }
 
+/// Maps the u of every texture coordinate linearly from its range to [0, 1] (0.5 where
+/// the scalar is constant).
+inline void normalize_u(PaddedVector<float>& texcoords) {
+  if (texcoords.empty()) return;
+  float lo = texcoords[0], hi = texcoords[0];
+  for (std::size_t i = 0; i < texcoords.size(); i += 2) lo = std::min(lo, texcoords[i]), hi = std::max(hi, texcoords[i]);
+  const double range = static_cast<double>(hi) - lo;
+  for (std::size_t i = 0; i < texcoords.size(); i += 2)
+    texcoords[i] = range > 0.0 ? static_cast<float>((texcoords[i] - static_cast<double>(lo)) / range) : 0.5f;
+}
+
 }  // namespace ply_detail
 
+/// How to read a PLY file beyond its geometry.
+struct PlyOptions {
+  /// A per-vertex scalar property to make texture coordinates from (u over its range,
+  /// v = 0.5), instead of the file's own u, v; empty for none.
+  std::string texcoord_from;
+};
+
 /// Parses a PLY file held in memory; `name_for_errors` prefixes every error message.
-inline MeshData parse_ply(std::span<const std::byte> bytes, std::string_view name_for_errors) {
+inline MeshData parse_ply(std::span<const std::byte> bytes, std::string_view name_for_errors,
+                          const PlyOptions& options = {}) {
   using namespace ply_detail;
   static_assert(std::endian::native == std::endian::little || std::endian::native == std::endian::big);
   const Header header = parse_header(bytes, name_for_errors);
-  const MeshLayout layout = make_mesh_layout(header, name_for_errors);
+  const MeshLayout layout = make_mesh_layout(header, name_for_errors, options.texcoord_from);
   check_counts_fit(header, bytes.size() - header.data_offset, name_for_errors);
-  if (header.format == Format::ascii) {
-    AsciiSource source(bytes, header, name_for_errors);
+  const auto read = [&]() -> MeshData {
+    if (header.format == Format::ascii) {
+      AsciiSource source(bytes, header, name_for_errors);
+      return read_elements(source, header, layout);
+    }
+    const bool file_little = header.format == Format::binary_little_endian;
+    if (file_little == (std::endian::native == std::endian::little)) {
+      BinarySource<false> source(bytes, header.data_offset, name_for_errors);
+      return read_elements(source, header, layout);
+    }
+    BinarySource<true> source(bytes, header.data_offset, name_for_errors);
     return read_elements(source, header, layout);
-  }
-  const bool file_little = header.format == Format::binary_little_endian;
-  if (file_little == (std::endian::native == std::endian::little)) {
-    BinarySource<false> source(bytes, header.data_offset, name_for_errors);
-    return read_elements(source, header, layout);
-  }
-  BinarySource<true> source(bytes, header.data_offset, name_for_errors);
-  return read_elements(source, header, layout);
+  };
+  MeshData mesh = read();
+  if (!options.texcoord_from.empty()) normalize_u(mesh.texcoords);
+  return mesh;
 }
 
 /// Reads a whole PLY file (ascii or binary) into memory and parses it.
-inline MeshData read_ply(const std::filesystem::path& path) {
+inline MeshData read_ply(const std::filesystem::path& path, const PlyOptions& options = {}) {
   const std::string name = path.string();
   std::ifstream file(path, std::ios::binary | std::ios::ate);
   if (!file) throw Error(name + ": cannot open the file");
@@ -899,7 +985,7 @@ inline MeshData read_ply(const std::filesystem::path& path) {
   ply_detail::advise_huge_pages(bytes.get(), static_cast<std::size_t>(size));
   file.seekg(0);
   if (!file.read(reinterpret_cast<char*>(bytes.get()), size)) throw Error(name + ": cannot read the file");
-  return parse_ply({bytes.get(), static_cast<std::size_t>(size)}, name);
+  return parse_ply({bytes.get(), static_cast<std::size_t>(size)}, name, options);
 }
 
 }  // namespace sciray::io

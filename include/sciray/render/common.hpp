@@ -74,6 +74,7 @@ struct SurfacePoint {
   Vec3f color;   ///< the geometry's colour, (1,1,1) where it has none
   bool has_color;
   std::uint32_t material;  ///< index into RendererParams::materials
+  TexCoord<float> uv;      ///< texture coordinates, for the material's maps (textured())
 };
 
 namespace detail {
@@ -134,6 +135,7 @@ void for_each_surface(const WorldT& world, const Ray<simd::Float<Arch>>& ray, co
                                       simd::lane(surface.color.z, i)}
                               : splat(1.f);
         s.material = material;
+        s.uv = {simd::lane(surface.uv.u, i), simd::lane(surface.uv.v, i)};
         f(i, s);
       }
     });

@@ -3,6 +3,12 @@
 // A renderer holds a list of them; every geometry names its entry by index (Group::add).
 // The scivis and ao renderers read the `obj` view of any material (obj_view); the path
 // tracer evaluates each type's BSDF (render/bsdf.hpp). Colours are linear RGB.
+//
+// Texture maps (OSPRay's `map_kd`, `map_baseColor`, ...) multiply their parameter at the
+// surface's texture coordinates; `textured` resolves them at a hit, so every renderer
+// and BSDF keeps reading plain parameter values.
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <optional>
@@ -12,6 +18,7 @@
 
 #include "sciray/error.hpp"
 #include "sciray/math/vec.hpp"
+#include "sciray/render/texture.hpp"
 
 namespace sciray {
 
@@ -23,6 +30,7 @@ struct ObjMaterial {
   float ns = 10.f;
   float d = 1.f;
   Vec3f tf{0.f, 0.f, 0.f};
+  TextureMap map_kd{}, map_ks{}, map_ns{}, map_d{};
 };
 
 /// OSPRay `principled`: a layered physically based material (Disney/Burley style).
@@ -50,6 +58,7 @@ struct PrincipledMaterial {
   float sheen_roughness = 0.2f;
   float opacity = 1.f;
   Vec3f emissive_color{0.f, 0.f, 0.f};  ///< emissiveColor (radiance)
+  TextureMap map_base_color{}, map_roughness{}, map_metallic{}, map_opacity{};  ///< map_baseColor, ...
 };
 
 /// OSPRay `glass`: a dielectric interface; light inside is attenuated to
@@ -116,38 +125,111 @@ inline std::optional<Material> material_of_type(std::string_view type) {
   return std::nullopt;
 }
 
+namespace detail {
+/// read(name, field) for every parameter of one material type; M may be const.
+template <class M, class Read>
+void parameters_of(M& m, Read&& read) {
+  using T = std::remove_const_t<M>;
+  if constexpr (std::is_same_v<T, ObjMaterial>) {
+    read("kd", m.kd), read("ks", m.ks), read("ns", m.ns), read("d", m.d), read("tf", m.tf);
+  } else if constexpr (std::is_same_v<T, PrincipledMaterial>) {
+    read("baseColor", m.base_color), read("edgeColor", m.edge_color), read("metallic", m.metallic);
+    read("diffuse", m.diffuse), read("specular", m.specular), read("ior", m.ior);
+    read("transmission", m.transmission), read("transmissionColor", m.transmission_color);
+    read("transmissionDepth", m.transmission_depth), read("roughness", m.roughness), read("thin", m.thin);
+    read("thickness", m.thickness), read("coat", m.coat), read("coatIor", m.coat_ior);
+    read("coatColor", m.coat_color), read("coatThickness", m.coat_thickness);
+    read("coatRoughness", m.coat_roughness), read("sheen", m.sheen), read("sheenColor", m.sheen_color);
+    read("sheenTint", m.sheen_tint), read("sheenRoughness", m.sheen_roughness), read("opacity", m.opacity);
+    read("emissiveColor", m.emissive_color);
+  } else if constexpr (std::is_same_v<T, GlassMaterial> || std::is_same_v<T, ThinGlassMaterial>) {
+    read("eta", m.eta), read("attenuationColor", m.attenuation_color);
+    read("attenuationDistance", m.attenuation_distance);
+    if constexpr (std::is_same_v<T, ThinGlassMaterial>) read("thickness", m.thickness);
+  } else if constexpr (std::is_same_v<T, MetalMaterial>) {
+    read("eta", m.eta), read("k", m.k), read("roughness", m.roughness);
+  } else if constexpr (std::is_same_v<T, AlloyMaterial>) {
+    read("color", m.color), read("edgeColor", m.edge_color), read("roughness", m.roughness);
+  } else if constexpr (std::is_same_v<T, LuminousMaterial>) {
+    read("color", m.color), read("intensity", m.intensity), read("transparency", m.transparency);
+  }
+}
+
+/// map(name, map) for every texture map of one material type; M may be const.
+template <class M, class Map>
+void maps_of(M& m, Map&& map) {
+  using T = std::remove_const_t<M>;
+  if constexpr (std::is_same_v<T, ObjMaterial>) {
+    map("map_kd", m.map_kd), map("map_ks", m.map_ks), map("map_ns", m.map_ns), map("map_d", m.map_d);
+  } else if constexpr (std::is_same_v<T, PrincipledMaterial>) {
+    map("map_baseColor", m.map_base_color), map("map_roughness", m.map_roughness);
+    map("map_metallic", m.map_metallic), map("map_opacity", m.map_opacity);
+  }
+}
+}  // namespace detail
+
 /// Calls read(name, field) for every parameter of `material` under its OSPRay name
 /// (field: float&, bool& or Vec3f&): the one table the C API and scene files both read.
 template <class Read>
 void for_each_parameter(Material& material, Read&& read) {
+  std::visit([&](auto& m) { detail::parameters_of(m, read); }, material);
+}
+
+/// Calls map(name, TextureMap&) for every texture map `material`'s type has, under its
+/// OSPRay name (obj: map_kd, map_ks, map_ns, map_d; principled: map_baseColor,
+/// map_roughness, map_metallic, map_opacity; other types have none).
+template <class Map>
+void for_each_map(Material& material, Map&& map) {
+  std::visit([&](auto& m) { detail::maps_of(m, map); }, material);
+}
+
+/// Whether any of `material`'s maps is set.
+inline bool has_maps(const Material& material) {
+  bool any = false;
+  std::visit([&](const auto& m) { detail::maps_of(m, [&](const char*, const TextureMap& map) { any |= bool(map); }); },
+             material);
+  return any;
+}
+
+/// The material at surface texture coordinates `uv`: `material` itself where it has no
+/// maps (no copy: the untextured path costs a test), otherwise `storage`, filled with its
+/// parameters times their maps (scalar maps by the first channel; parameters in [0, 1]
+/// stay there) and no maps. Shared textures are not copied, so the many threads that
+/// shade one textured material contend on no reference count.
+inline const Material& textured(const Material& material, const TexCoord<float>& uv, Material& storage) {
+  if (!has_maps(material)) return material;
   std::visit(
-      [&](auto& m) {
+      [&](const auto& m) {
         using M = std::decay_t<decltype(m)>;
+        // The parameters alone, field by field: copying m would copy its maps.
+        M& out = storage.emplace<M>();
+        std::array<const void*, 32> from{};
+        std::size_t n = 0;
+        detail::parameters_of(m, [&](const char*, const auto& field) { from[n++] = &field; });
+        n = 0;
+        detail::parameters_of(out, [&](const char*, auto& field) {
+          field = *static_cast<const std::remove_reference_t<decltype(field)>*>(from[n++]);
+        });
+        const auto scale = [&](const TextureMap& map, auto& field) {
+          if (!map) return;
+          const Vec3f t = map.at(uv);
+          if constexpr (std::is_same_v<std::remove_reference_t<decltype(field)>, Vec3f>)
+            field = field * t;
+          else
+            field = field * t.x;
+        };
+        const auto unit = [](float& v) { v = std::min(v, 1.f); };
         if constexpr (std::is_same_v<M, ObjMaterial>) {
-          read("kd", m.kd), read("ks", m.ks), read("ns", m.ns), read("d", m.d), read("tf", m.tf);
+          scale(m.map_kd, out.kd), scale(m.map_ks, out.ks), scale(m.map_ns, out.ns), scale(m.map_d, out.d);
+          unit(out.d);
         } else if constexpr (std::is_same_v<M, PrincipledMaterial>) {
-          read("baseColor", m.base_color), read("edgeColor", m.edge_color), read("metallic", m.metallic);
-          read("diffuse", m.diffuse), read("specular", m.specular), read("ior", m.ior);
-          read("transmission", m.transmission), read("transmissionColor", m.transmission_color);
-          read("transmissionDepth", m.transmission_depth), read("roughness", m.roughness), read("thin", m.thin);
-          read("thickness", m.thickness), read("coat", m.coat), read("coatIor", m.coat_ior);
-          read("coatColor", m.coat_color), read("coatThickness", m.coat_thickness);
-          read("coatRoughness", m.coat_roughness), read("sheen", m.sheen), read("sheenColor", m.sheen_color);
-          read("sheenTint", m.sheen_tint), read("sheenRoughness", m.sheen_roughness), read("opacity", m.opacity);
-          read("emissiveColor", m.emissive_color);
-        } else if constexpr (std::is_same_v<M, GlassMaterial> || std::is_same_v<M, ThinGlassMaterial>) {
-          read("eta", m.eta), read("attenuationColor", m.attenuation_color);
-          read("attenuationDistance", m.attenuation_distance);
-          if constexpr (std::is_same_v<M, ThinGlassMaterial>) read("thickness", m.thickness);
-        } else if constexpr (std::is_same_v<M, MetalMaterial>) {
-          read("eta", m.eta), read("k", m.k), read("roughness", m.roughness);
-        } else if constexpr (std::is_same_v<M, AlloyMaterial>) {
-          read("color", m.color), read("edgeColor", m.edge_color), read("roughness", m.roughness);
-        } else if constexpr (std::is_same_v<M, LuminousMaterial>) {
-          read("color", m.color), read("intensity", m.intensity), read("transparency", m.transparency);
+          scale(m.map_base_color, out.base_color), scale(m.map_roughness, out.roughness);
+          scale(m.map_metallic, out.metallic), scale(m.map_opacity, out.opacity);
+          unit(out.roughness), unit(out.metallic), unit(out.opacity);
         }
       },
       material);
+  return storage;
 }
 
 /// What the scivis and ao renderers see of any material: diffuse and specular colour,
@@ -260,6 +342,9 @@ inline void validate(const Material& material) {
           require(m.intensity >= 0.f && std::isfinite(m.intensity), type, "intensity", "must be finite and not negative");
           require(in_unit(m.transparency), type, "transparency", "must be in [0, 1]");
         }
+        detail::maps_of(m, [&](const char* name, const TextureMap& map) {
+          require(map.transform.finite(), type, name, "has a transform that is not finite");
+        });
       },
       material);
 }

@@ -14,7 +14,9 @@
 // same transparency and volumes.
 //
 // Shading runs on packets: the lanes of a packet that hit one geometry share a material,
-// and the directional and ambient lights are the same for every lane.
+// and the directional and ambient lights are the same for every lane. A material with
+// texture maps is resolved lane by lane at each hit's texture coordinates (textured());
+// materials without maps take the packet-wide values, as cheaply as before.
 #include <cmath>
 #include <limits>
 #include <type_traits>
@@ -40,11 +42,18 @@ struct AOParams : RendererParams {
 namespace detail {
 
 template <class Arch>
-simd::Float<Arch> pow(const simd::Float<Arch>& x, float e) {
+simd::Float<Arch> pow(const simd::Float<Arch>& x, const simd::Float<Arch>& e) {
   if constexpr (std::is_same_v<Arch, simd::scalar>)
     return std::pow(x, e);
   else
-    return xsimd::pow(x, simd::Float<Arch>(e));
+    return xsimd::pow(x, e);
+}
+
+/// Whether `m` has a map that changes its opacity (obj map_d, principled map_opacity).
+inline bool opacity_mapped(const Material& m) {
+  if (const auto* obj = std::get_if<ObjMaterial>(&m)) return bool(obj->map_d);
+  if (const auto* principled = std::get_if<PrincipledMaterial>(&m)) return bool(principled->map_opacity);
+  return false;
 }
 
 /// Local shading shared by scivis and ao; `Params` picks which.
@@ -65,8 +74,10 @@ public:
     for (const Material& m : params_.materials) {
       surfaces_.push_back(obj_view(m));
       luminous_.push_back(std::holds_alternative<LuminousMaterial>(m));
+      textured_.push_back(has_maps(m));
+      opacity_mapped_.push_back(opacity_mapped(m));
       const ObjMaterial& o = surfaces_.back();
-      if (o.d < 1.f || o.tf.x > 0.f || o.tf.y > 0.f || o.tf.z > 0.f) any_transparent_ = true;
+      if (o.d < 1.f || o.tf.x > 0.f || o.tf.y > 0.f || o.tf.z > 0.f || opacity_mapped_.back()) any_transparent_ = true;
     }
     for (const Light& l : params_.lights) {
       if (const auto* h = std::get_if<HdriLight>(&l); h && h->visible && !environment_) environment_ = h;
@@ -183,25 +194,63 @@ private:
     Vec3<F> color, pass, normal, albedo;
   };
 
+  /// The obj view of a material, lane by lane.
+  struct ObjLanes {
+    Vec3<F> kd, ks, tf;
+    F ns, d;
+  };
+
+  /// `m` (the obj view of `material`) for every lane; with maps, resolved at each lane's
+  /// texture coordinates `uv` (lanes outside `lanes` keep the plain values).
+  ObjLanes obj_lanes(const ObjMaterial& m, std::uint32_t material, const TexCoord<F>& uv, const M& lanes) const {
+    if (material == no_material || !textured_[material])
+      return {Vec3<F>(m.kd), Vec3<F>(m.ks), Vec3<F>(m.tf), F(m.ns), F(m.d)};
+    alignas(64) float v[11][W];
+    Material storage;
+    for (int i = 0; i < W; ++i) {
+      const auto store = [&](const ObjMaterial& o) {
+        const float values[11] = {o.kd.x, o.kd.y, o.kd.z, o.ks.x, o.ks.y, o.ks.z, o.tf.x, o.tf.y, o.tf.z, o.ns, o.d};
+        for (int c = 0; c < 11; ++c) v[c][i] = values[c];
+      };
+      if (!simd::lane(lanes, i)) {
+        store(m);
+        continue;
+      }
+      const TexCoord<float> at{simd::lane(uv.u, i), simd::lane(uv.v, i)};
+      store(obj_view(textured(params_.materials[material], at, storage)));
+    }
+    const auto load3 = [&](int c) {
+      return Vec3<F>{simd::load<Arch>(v[c]), simd::load<Arch>(v[c + 1]), simd::load<Arch>(v[c + 2])};
+    };
+    return {load3(0), load3(3), load3(6), simd::load<Arch>(v[9]), simd::load<Arch>(v[10])};
+  }
+
+  /// What a surface of opacity d and transmissive filter tf lets pass.
+  static Vec3<F> passing(const ObjLanes& o) {
+    const F opaque = F(1.f) - o.d;
+    return Vec3<F>{opaque, opaque, opaque} + o.tf * o.d;
+  }
+
   template <class Surface>
   Shaded shade(const Ray<F>& ray, const F& t, const Surface& s, const Vec3<F>& ng_raw, const M& lanes,
                std::uint32_t material, PixelRandom* rng) const {
     static const ObjMaterial default_surface;
     const bool has_material = material != no_material;
     const ObjMaterial& m = has_material ? surfaces_[material] : default_surface;
+    const ObjLanes o = obj_lanes(m, material, s.uv, lanes);
     // Both sides of a surface are lit: face the normals towards the viewer.
     const Vec3<F> n = select(dot(s.normal, ray.dir) > F(0.f), -s.normal, s.normal);
     const Vec3<F> ng = select(dot(ng_raw, ray.dir) > F(0.f), -ng_raw, ng_raw);
     // Without a material, a geometry shows its own colours (the default kd where none).
     const Vec3<F> geometry_color = select(s.has_color, s.color, Vec3<F>(has_material ? splat(1.f) : m.kd));
-    const Vec3<F> kd = has_material ? geometry_color * Vec3<F>(m.kd) : geometry_color;
+    const Vec3<F> kd = has_material ? geometry_color * o.kd : geometry_color;
 
     Shaded out;
     out.normal = n;
     out.albedo = kd;
-    out.pass = Vec3<F>(splat(1.f - m.d) + m.tf * m.d);
+    out.pass = passing(o);
     if (has_material && luminous_[material]) {
-      out.color = kd * F(m.d);
+      out.color = kd * o.d;
       return out;
     }
     const Vec3<F> p = ray.org + ray.dir * t;
@@ -224,14 +273,14 @@ private:
         Vec3<F> response = kd * cos_theta;
         if (specular) {
           const Vec3<F> h = normalize(wi - ray.dir);
-          response = response + Vec3<F>(m.ks) * pow<Arch>(simd::max(dot(n, h), F(0.f)), m.ns);
+          response = response + o.ks * pow<Arch>(simd::max(dot(n, h), F(0.f)), o.ns);
         }
         Vec3<F> arriving = weight;
         if (params_.shadows) arriving = arriving * shadow_transmittance(org, wi, dist, lit_lanes);
         lit = lit + select(lit_lanes, response * arriving, Vec3<F>(splat(0.f)));
       }
     }
-    out.color = lit * F(m.d);
+    out.color = lit * o.d;
     return out;
   }
 
@@ -313,7 +362,15 @@ private:
           return;
         }
         const ObjMaterial& m = surfaces_[material];
-        through = select(group, through * Vec3<F>(splat(1.f - m.d) + m.tf * m.d), through);
+        if (!opacity_mapped_[material]) {
+          through = select(group, through * Vec3<F>(splat(1.f - m.d) + m.tf * m.d), through);
+          return;
+        }
+        // A map cuts the surface out lane by lane: it needs the hits' texture coordinates.
+        world_->visit_hit(inst, geom, [&](const auto& geometry, const Affine3f*) {
+          const auto surface = geometry.template surface<Arch>(hit, group);
+          through = select(group, through * passing(obj_lanes(m, material, surface.uv, group)), through);
+        });
       });
       const F left = simd::max(simd::max(through.x, through.y), through.z);
       live = blocked & (left > F(params_.min_contribution));
@@ -328,6 +385,8 @@ private:
   Vec3f to_light_;
   std::vector<ObjMaterial> surfaces_;
   std::vector<bool> luminous_;
+  std::vector<bool> textured_;        ///< per material: has maps
+  std::vector<bool> opacity_mapped_;  ///< per material: a map changes its opacity
   bool any_transparent_ = false;
   bool needs_random_ = false;
   Vec3f ambient_{0.f, 0.f, 0.f};
