@@ -320,7 +320,7 @@ TEST_CASE("texture maps: map_d cuts holes in a quad that the view and the light 
 }
 
 // Hidden ([.]) until the path tracer resolves maps with textured(): then drop the tag.
-TEST_CASE("texture maps: the path tracer shows a checkerboard map_kd", "[.][texture_maps][renderers][pathtracer]") {
+TEST_CASE("texture maps: the path tracer shows a checkerboard map_kd", "[texture_maps][renderers][pathtracer]") {
   const int n = 4, size = 32;
   const Vec3f a{0.8f, 0.2f, 0.2f}, b{0.2f, 0.3f, 0.7f};
   TestWorld scene;

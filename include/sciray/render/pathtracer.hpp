@@ -139,7 +139,8 @@ public:
         const SurfacePoint& s = v.surface;
         p.sp = {s.n, s.ng, s.front, s.color};
         p.p = s.p;
-        const Material& m = material(s);
+        p.material = &textured(material(s), s.uv, p.textured_material);
+        const Material& m = *p.material;
         add(p, p.throughput * emitted(m, p.sp, -p.dir), depth);
         if (depth == 0) {
           p.alpha = 1.f;
@@ -174,7 +175,7 @@ public:
           p.previous_delta = false;
           p.previous_normal = splat(0.f);
         } else {
-          const Material& m = material(v.surface);
+          const Material& m = *p.material;
           const std::optional<BsdfSample> b = sample(m, p.sp, wo, u_lobe, u.u, u.v);
           if (!b || !(b->pdf > 0.f)) {
             p.alive = false;
@@ -233,6 +234,8 @@ private:
     bool previous_delta = true;  // the camera ray: lights it sees count fully
     Vec3f previous_normal{0.f, 0.f, 1.f};
     std::uint32_t medium = no_material;  // the material whose interior the path is in
+    Material textured_material;          // the current surface's material with its maps resolved
+    const Material* material = nullptr;  // the material at the path's current surface
     float volume_alpha = 0.f;            // opacity of the volumes in front of the camera's first hit
   };
 
@@ -364,7 +367,7 @@ private:
           f.pdf = henyey_greenstein(dot(p.dir, ls->dir), v.anisotropy);
           f.f_cos = splat(f.pdf);
         } else {
-          f = eval(material(v.surface), p.sp, -p.dir, ls->dir);
+          f = eval(*p.material, p.sp, -p.dir, ls->dir);
         }
         if (!(std::max({f.f_cos.x, f.f_cos.y, f.f_cos.z}) > 0.f)) continue;
         const float w = std::isfinite(ls->pdf) && params_.light_sampling == LightSampling::mis
