@@ -6,7 +6,7 @@
 //                 [-o out.png|out.pfm] [--depth depth.pfm] [--json]
 //                 [--style ball-and-stick|space-filling] [--sphere-intersector sciray|embree]
 //                 [--clip-plane a,b,c,d]... [--clip-sphere x,y,z,r]...
-//                 [--tf tf.json] [--layout linear|bricked] [--density D] [--sampling-rate R] [--gradient-shading]
+//                 [--tf tf.json] [--layout linear|bricked] [--density D] [--anisotropy G] [--sampling-rate R] [--gradient-shading]
 //                 [--iso V]... [--slice a,b,c,d]... [--preintegration] [--adaptive-sampling]
 //                 [--no-empty-space-skipping]
 //                 [--renderer scivis|ao|pathtracer] [--spp N] [--shadows] [--ao-samples N] [--ao-distance D]
@@ -423,6 +423,8 @@ int main(int argc, char** argv) {
   render_cmd->add_option("--tf", opt.volume.tf, "volumes: transfer function JSON {colors, opacities, range}");
   render_cmd->add_option("--layout", opt.volume.layout, "volumes: linear (in place) or bricked");
   render_cmd->add_option("--density", opt.volume.density, "volumes: densityScale (default: from the size)");
+  render_cmd->add_option("--anisotropy", opt.volume.anisotropy,
+                         "volumes, pathtracer: Henyey-Greenstein g of the scattering, in [-1, 1]");
   render_cmd->add_option("--sampling-rate", opt.sampling_rate, "volumes: samples per cell");
   render_cmd->add_option("--iso", opt.volume.isovalues, "volumes: render the isosurface of this value (repeatable)");
   render_cmd->add_option("--slice", opt.slices, "volumes: a,b,c,d: the plane a*x+b*y+c*z+d=0 coloured by the volume "

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <cstring>
 #include <limits>
+#include <numbers>
 #include <string>
 #include <vector>
 
@@ -2180,6 +2181,48 @@ TEST_CASE("volume: a constant density renders the analytic opacity 1 - exp(-sigm
   CHECK(api.messages.errors.empty());
 }
 
+TEST_CASE("volume: the pathtracer scatters light once as the closed form says, for each anisotropy",
+          "[c_api][volume][render]") {
+  // A slab of σ = 2 and albedo 1, 0.5 thick and 20 wide, seen along +z; a distant light of
+  // irradiance E enters through the same face at μ = 0.8. With maxPathLength 1 light
+  // scatters once: E p(cos θ) (1 - exp(-σ h (1 + 1/μ))) / (1 + 1/μ), with p the
+  // Henyey–Greenstein phase function of the model's `anisotropy` and cos θ = -0.8.
+  ApiFixture api;
+  VolumeScene scene;
+  ospSetVec3f(scene.volume, "gridOrigin", -10.f, -10.f, 0.f);
+  ospSetVec3f(scene.volume, "gridSpacing", 20.f, 20.f, 0.5f);
+  scene.commit_constant(new_transfer_function({1.f, 1.f, 1.f}, {2.f}, 0.f, 2.f));
+  OSPLight sun = ospNewLight("distant");
+  ospSetVec3f(sun, "direction", 0.6f, 0.f, 0.8f);
+  ospSetFloat(sun, "intensity", 3.f);
+  ospCommit(sun);
+  ospSetObjectAsData(scene.world, "light", OSP_LIGHT, sun);
+  ospCommit(scene.world);
+  OSPRenderer pathtracer = ospNewRenderer("pathtracer");
+  ospSetInt(pathtracer, "maxPathLength", 1);
+  ospCommit(pathtracer);
+  for (float g : {0.6f, -0.6f}) {
+    INFO("anisotropy " << g);
+    ospSetFloat(scene.model, "anisotropy", g);
+    ospCommit(scene.model);
+    const int size = 32, frames = 64;
+    OSPFrameBuffer fb = ospNewFrameBuffer(size, size, OSP_FB_RGBA32F, OSP_FB_COLOR | OSP_FB_ACCUM);
+    for (int f = 0; f < frames; ++f) ospRenderFrameBlocking(fb, pathtracer, scene.camera, scene.world);
+    const auto* rgba = static_cast<const float*>(ospMapFrameBuffer(fb, OSP_FB_COLOR));
+    double mean = 0;
+    for (int p = 0; p < size * size; ++p) mean += rgba[4 * p + 1] / (size * size);
+    ospUnmapFrameBuffer(rgba, fb);
+    ospRelease(fb);
+    const double cos_theta = -0.8, mu = 0.8, sigma_h = 2 * 0.5;
+    const double phase = (1 - g * g) / (4 * std::numbers::pi * std::pow(1 + g * g - 2 * g * cos_theta, 1.5));
+    const double expected = 3 * phase * (1 - std::exp(-sigma_h * (1 + 1 / mu))) / (1 + 1 / mu);
+    CHECK(mean == Approx(expected).epsilon(0.02));
+  }
+  ospRelease(pathtracer);
+  ospRelease(sun);
+  CHECK(api.messages.errors.empty());
+}
+
 TEST_CASE("volume: shared compact data is read in place, strided data is copied", "[c_api][volume][data]") {
   ApiFixture api;
   VolumeScene scene;
@@ -2596,6 +2639,10 @@ TEST_CASE("volume: bad input is named through the error callback", "[c_api][volu
   ospCommit(model);
   api.expect_error("parameter 'densityScale' must be finite and not negative");
   ospSetFloat(model, "densityScale", 0.5f);
+  ospSetFloat(model, "anisotropy", 1.5f);
+  ospCommit(model);
+  api.expect_error("volumetric model: parameter 'anisotropy' must be in [-1, 1], got 1.500000");
+  ospSetFloat(model, "anisotropy", -0.3f);
   ospSetFloat(model, "gradientShadingScale", 1.f);  // OSPRay's, not used yet
   ospCommit(model);
   CHECK(api.messages.errors.empty());

@@ -279,6 +279,35 @@ TEST_CASE("sciray render: the path tracer, ao and scivis with materials and ligh
   CHECK(ao.exit_code == 0);
 }
 
+TEST_CASE("sciray render: the pathtracer scatters in a real volume by --anisotropy", "[tool][renderers][volume]") {
+  // neghip lit from behind (the light travels towards the camera): forward scattering
+  // sends light on to the camera, back scattering returns it to the light's side.
+  const auto camera = scratch("neghip_cam.json");
+  std::ofstream(camera) << R"({"position": [32.5, -120, 32.5], "look_at": [32.5, 32.5, 32.5], "up": [0, 0, 1], "fovy": 35})";
+  const auto mean_with = [&](const std::string& g) {
+    const auto out = scratch("neghip_g" + g + ".pfm");
+    const Run run = run_tool("render " SCIRAY_DATA_DIR "/volumes/neghip_66x66x66_uint8.raw --renderer pathtracer "
+                             "--size 32x32 --spp 8 --density 0.05 --anisotropy " + g + " --camera " + camera.string() +
+                             " --light '{\"type\":\"distant\",\"direction\":[0,-1,0],\"intensity\":3}' -o " +
+                             out.string());
+    INFO(run.output);
+    REQUIRE(run.exit_code == 0);
+    const auto image = sciray::io::read_pfm(out);
+    double sum = 0;
+    for (int y = 0; y < image.height; ++y)
+      for (int x = 0; x < image.width; ++x) sum += image.at(x, y, 1);
+    return sum / (image.width * image.height);
+  };
+  const double forward = mean_with("0.8"), back = mean_with("-0.8");
+  INFO("forward " << forward << ", back " << back);
+  CHECK(back > 0.0);
+  CHECK(forward > 2 * back);  // measured: 2.9 times
+  const Run bad = run_tool("render " SCIRAY_DATA_DIR "/volumes/neghip_66x66x66_uint8.raw --size 8x8 --anisotropy 1.2 -o " +
+                           scratch("bad.png").string());
+  CHECK(bad.exit_code == 1);
+  CHECK_THAT(bad.output, Catch::Contains("'anisotropy' must be in [-1, 1], got 1.2"));
+}
+
 TEST_CASE("sciray render: bad renderers, materials and lights are named", "[tool][renderers][errors]") {
   const auto error_of = [](const std::string& arguments) {
     const Run run = run_tool("render builtin:cornell_box --size 8x8 -o " + scratch("bad.png").string() + " " + arguments);

@@ -523,16 +523,17 @@ EngineVolume make_structured_regular(const Object& owner, const Data& data, cons
                                                           filter);
 }
 
-/// The engine model of `volume` with `tf` and `density_scale` (builds its macrocells).
+/// The engine model of `volume` with `tf`, `density_scale` and `anisotropy` (builds its
+/// macrocells).
 EngineVolumetricModel make_volumetric_model(const EngineVolume& volume, const TransferFunction& tf,
-                                            float density_scale) {
+                                            float density_scale, float anisotropy = 0.f) {
   return std::visit(
       [&](const auto& v) -> EngineVolumetricModel {
         using T = std::decay_t<decltype(v)>;
         if constexpr (std::is_same_v<T, std::monostate>)
           throw Error("volumetric model: its volume has not been committed");
         else
-          return VolumetricModel<std::remove_const_t<typename T::element_type>>(v, tf, density_scale);
+          return VolumetricModel<std::remove_const_t<typename T::element_type>>(v, tf, density_scale, anisotropy);
       },
       volume);
 }
@@ -674,7 +675,10 @@ void VolumetricModelObject::on_commit() {
   if (!(density_scale >= 0.f) || !std::isfinite(density_scale))
     throw Error(name() + ": parameter 'densityScale' must be finite and not negative, got " +
                 std::to_string(density_scale));
-  // OSPRay's `gradientShadingScale` and `anisotropy` are not read: reported unused.
+  const float anisotropy = get_float("anisotropy", 0.f);
+  if (!(anisotropy >= -1.f && anisotropy <= 1.f))
+    throw Error(name() + ": parameter 'anisotropy' must be in [-1, 1], got " + std::to_string(anisotropy));
+  // OSPRay's `gradientShadingScale` is not read: reported unused.
 
   std::lock_guard lock(mutex_);
   EngineVolumetricModel model;
@@ -691,12 +695,18 @@ void VolumetricModelObject::on_commit() {
   } else {
     model = make_volumetric_model(volume->volume(), *tf->transfer_function(), density_scale);
   }
+  std::visit(
+      [&](auto& m) {
+        if constexpr (!std::is_same_v<std::decay_t<decltype(m)>, std::monostate>) m.set_anisotropy(anisotropy);
+      },
+      model);
   model_ = std::move(model);
   model_volume_version_ = volume->version();
   model_tf_version_ = tf->version();
   volume_ = std::move(volume);
   transfer_function_ = std::move(tf);
   density_scale_ = density_scale;
+  anisotropy_ = anisotropy;
 }
 
 std::uint64_t VolumetricModelObject::version() const {
@@ -710,7 +720,8 @@ EngineVolumetricModel VolumetricModelObject::engine_model(VolumeBuildStats& stat
   std::lock_guard lock(mutex_);
   ++stats.volumes;
   if (model_volume_version_ != volume_->version()) {
-    model_ = make_volumetric_model(volume_->volume(), *transfer_function_->transfer_function(), density_scale_);
+    model_ = make_volumetric_model(volume_->volume(), *transfer_function_->transfer_function(), density_scale_,
+                                   anisotropy_);
     model_volume_version_ = volume_->version();
     model_tf_version_ = transfer_function_->version();
     ++stats.macrocells_built;

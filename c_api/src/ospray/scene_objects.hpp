@@ -101,7 +101,8 @@ struct VolumeBuildStats {
   std::size_t transfer_functions = 0;    ///< models given a recommitted transfer function
 };
 
-/// OSPRay's volumetric model: `volume`, `transferFunction`, `densityScale`. Its engine
+/// OSPRay's volumetric model: `volume`, `transferFunction`, `densityScale`, `anisotropy`
+/// (the path tracer's Henyey–Greenstein g). Its engine
 /// model (with the volume's macrocell value ranges) is built at commit and kept: a
 /// recommitted transfer function only re-derives the macrocells' opacities.
 class VolumetricModelObject : public Object {
@@ -124,6 +125,7 @@ private:
   Ref<VolumeObject> volume_;
   Ref<TransferFunctionObject> transfer_function_;
   float density_scale_ = 1.f;
+  float anisotropy_ = 0.f;
   std::mutex mutex_;  ///< guards the engine model, which world builds refresh
   EngineVolumetricModel model_;
   std::uint64_t model_volume_version_ = 0;  ///< the volume commit the model was built from
