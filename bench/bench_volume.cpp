@@ -1,6 +1,7 @@
 // Volumes: the sampler's throughput per ISA (scalar against W = 4/8/16, linear against
-// bricked layout) on a 256³ float volume, and whole direct-volume-rendering frames of the
-// real volumes with and without empty-space skipping, in the same run.
+// bricked layout) on a 256³ float volume, and whole frames of the real volumes in the
+// same run: scivis ray marching with and without empty-space skipping, and the path
+// tracer scattering in them (delta tracking, up to 8 bounces).
 #include <cmath>
 #include <memory>
 #include <string>
@@ -61,8 +62,10 @@ void sample(benchmark::State& state, sciray::simd::Isa isa, bool bricked) {
   state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(data.positions.size()));
 }
 
+enum class VolumeRenderer { skipping, every_sample, pathtracer };
+
 /// A real volume rendered at 512² with its default transfer function (the tool's).
-void volume_frame(benchmark::State& state, sciray::simd::Isa isa, const std::string& name, bool skipping) {
+void volume_frame(benchmark::State& state, sciray::simd::Isa isa, const std::string& name, VolumeRenderer renderer) {
   static std::string loaded;
   static std::unique_ptr<sciray::accel::Device> device;
   static std::unique_ptr<sciray::shim::EngineWorld> world;
@@ -83,11 +86,19 @@ void volume_frame(benchmark::State& state, sciray::simd::Isa isa, const std::str
   }
   const auto& kernels = sciray::shim::kernels(isa);
   kernels.commit(*world);
-  sciray::SciVisParams params;
-  params.empty_space_skipping = skipping;
-  sciray::FrameBuffer fb(512, 512, sciray::ColorFormat::srgba, sciray::channel_color);
-  const auto camera = sciray::frame_bounds(world->bounds(), 1.f);
-  for (auto _ : state) kernels.render_scivis(*world, params, camera, fb, nullptr);
+  sciray::shim::RendererConfig config;
+  if (renderer == VolumeRenderer::pathtracer) {
+    sciray::PathTracerParams params;
+    params.max_path_length = 8;
+    config = params;
+  } else {
+    sciray::SciVisParams params;
+    params.empty_space_skipping = renderer == VolumeRenderer::skipping;
+    config = params;
+  }
+  sciray::FrameBuffer fb(512, 512, sciray::ColorFormat::srgba, sciray::channel_color | sciray::channel_accum);
+  const sciray::Camera camera = sciray::frame_bounds(world->bounds(), 1.f);
+  for (auto _ : state) kernels.render(*world, config, camera, fb, nullptr, sciray::FrameSettings{});
   state.SetItemsProcessed(state.iterations() * 512 * 512);
 }
 
@@ -104,12 +115,13 @@ const bool registered = [] {
   for (const char* name : {"embryo_256x256x256_uint8.raw", "neghip_66x66x66_uint8.raw"})
     for (auto isa : sciray::simd::all_isas) {
       if (!sciray::simd::cpu_supports(isa)) continue;
-      for (bool skipping : {true, false})
+      for (const auto& [renderer, label] : {std::pair{VolumeRenderer::skipping, "/skipping"},
+                                            std::pair{VolumeRenderer::every_sample, "/every_sample"},
+                                            std::pair{VolumeRenderer::pathtracer, "/pathtracer_pl8"}})
         benchmark::RegisterBenchmark(("frame/volume/" + std::string(sciray::simd::isa_name(isa)) + "/" +
-                                      std::string(name).substr(0, std::string(name).find('_')) +
-                                      (skipping ? "/skipping" : "/every_sample"))
+                                      std::string(name).substr(0, std::string(name).find('_')) + label)
                                          .c_str(),
-                                     volume_frame, isa, std::string(name), skipping)
+                                     volume_frame, isa, std::string(name), renderer)
             ->Unit(benchmark::kMillisecond)
             ->MeasureProcessCPUTime();
     }
