@@ -23,7 +23,12 @@ Sweeps (each measured in one run on this machine):
   * ao_samples: the ao renderer with aoSamples 1..16 a frame, against one reference
     (aoSamples 16, 4x the sweep's longest run);
   * bounces: the path tracer at maxPathLength 1..8 against the maxPathLength-20
-    reference of `renderers`: RMSE, light missing and time per frame.
+    reference of `renderers`: RMSE, light missing and time per frame;
+  * volume_lights: RMSE against time of the path tracer in a scattering volume (neghip,
+    albedo 0.8, anisotropy 0.5, a sphere light with size, maxPathLength 8) with MIS,
+    light sampling only and phase-function sampling only, against one MIS reference at
+    16x the sweep's longest run; and how much light single scattering (maxPathLength 1)
+    misses.
 The renderer sweeps run bench/render_sweep.cpp (build/bench/sciray_render_sweep).
 --smoke runs each sweep tiny (the test suite does, so that the pipeline cannot rot) and
 checks the results make sense. --sweeps picks sweeps (comma-separated; charts.json keeps
@@ -274,6 +279,50 @@ def bounces_sweep(build, tmp, smoke, reference):
     return {"size": size, "reference_max_path_length": 20, "points": points}
 
 
+# A scattering volume lit by a sphere light with size (the scene of the test
+# `pathtracer: light sampling, phase sampling and MIS converge to the same volume image`):
+# neghip, a grey transfer function of albedo 0.8 whose extinction rises to 0.15 per voxel,
+# forward scattering (g = 0.5); the lamp (radius 35 voxels) lies above, right and in
+# front of the 65-voxel volume, outside the view.
+VOLUME_SCENE = ["--renderer", "pathtracer", "--volume", os.path.join(DATA, "volumes", "neghip_66x66x66_uint8.raw"),
+                "--albedo", "0.8", "--extinction", "0.15", "--anisotropy", "0.5",
+                "--sphere-light", "80,-20,70,35,2e4", "--max-path-length", "8"]
+VOLUME_CURVES = [("MIS", "mis"), ("light sampling only", "lights_only"), ("phase sampling only", "bsdf_only")]
+
+
+def slope(points):
+    """Least-squares slope of log RMSE against log time (-0.5 for plain Monte Carlo)."""
+    return float(np.polyfit(np.log([p["cpu_s"] for p in points]), np.log([p["rmse"] for p in points]), 1)[0])
+
+
+def volume_lights_sweep(build, tmp, smoke):
+    size = "16x16" if smoke else "96x96"
+    frames = [1, 16, 64] if smoke else [2 ** k for k in range(10)]
+    reference_frames = 16 * frames[-1]
+    ref = render_sweep(build, tmp, "vol_ref", [*VOLUME_SCENE, "--light-sampling", "mis"], [reference_frames], size)[0]
+    reference = ref["image"]
+    curves = {}
+    for label, strategy in VOLUME_CURVES:
+        points = []
+        for c in render_sweep(build, tmp, "vol", [*VOLUME_SCENE, "--light-sampling", strategy], frames, size):
+            rmse, rmse_unclamped = errors(c["image"], reference)
+            # The mean against the reference's: an unbiased estimator tends to 1.
+            points.append({"frames": c["frames"], "cpu_s": c["cpu_s"], "wall_s": c["wall_s"], "rmse": rmse,
+                           "rmse_unclamped": rmse_unclamped, "mean_ratio": float(c["image"].mean() / reference.mean())})
+        curves[label] = {"points": points, "rmse_at_1s": at_time(points, 1.0), "slope": slope(points),
+                         "ms_per_frame": 1000 * points[-1]["cpu_s"] / points[-1]["frames"]}
+    # Single scattering: the same estimator stopped after the first collision.
+    c = render_sweep(build, tmp, "vol_single", [*VOLUME_SCENE, "--light-sampling", "mis", "--max-path-length", "1"],
+                     [frames[-1]], size)[0]
+    rmse, _ = errors(c["image"], reference)
+    single = {"max_path_length": 1, "frames": frames[-1], "rmse": rmse,
+              "light_missing": float(1 - c["image"].mean() / reference.mean()),
+              "ms_per_frame": 1000 * c["cpu_s"] / frames[-1]}
+    return {"size": size, "isa": ref["isa"], "scene": VOLUME_SCENE[2:],
+            "reference": {"light_sampling": "mis", "frames": reference_frames, "cpu_s": ref["cpu_s"]},
+            "curves": curves, "single_scattering": single}
+
+
 def draw_renderers(results, out):
     if "renderers" in results:
         fig, ax = plt.subplots(figsize=(7, 4.5))
@@ -325,6 +374,22 @@ def draw_renderers(results, out):
                      f"{points[0]['frames']} frames each)")
         fig.tight_layout()
         fig.savefig(os.path.join(out, "accuracy_bounces.png"), dpi=100)
+        plt.close(fig)
+    if "volume_lights" in results:
+        v = results["volume_lights"]
+        fig, ax = plt.subplots(figsize=(7, 4.5))
+        for label, curve in v["curves"].items():
+            points = curve["points"]
+            ax.loglog([p["cpu_s"] for p in points], [p["rmse"] for p in points], marker="o", ms=3,
+                      label=f"{label} (slope {curve['slope']:.2f})")
+        ax.set_xlabel("render time (s, one thread, summed over frames)")
+        ax.set_ylabel("RMSE against converged MIS")
+        ax.set_title(f"Path-traced volume: light sampling (neghip, albedo 0.8, g 0.5, {v['size']}, {v['isa']})",
+                     fontsize=10)
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend(fontsize=8)
+        fig.tight_layout()
+        fig.savefig(os.path.join(out, "accuracy_volume_lights.png"), dpi=100)
         plt.close(fig)
 
 
@@ -411,6 +476,15 @@ def check_renderers(results):
         first = [curve["points"][0]["rmse"] for curve in ao.values()]
         if not first[-1] < first[0]:
             problems.append(f"ao_samples: one frame of more AO rays is not more accurate: {first}")
+    for label, curve in results.get("volume_lights", {}).get("curves", {}).items():
+        points = curve["points"]
+        if not points[-1]["rmse"] < 0.7 * points[0]["rmse"]:
+            problems.append(f"volume_lights, {label}: error does not fall with more frames: {points}")
+        if not abs(points[-1]["mean_ratio"] - 1) < 0.2:  # wide for the smoke run's few samples
+            problems.append(f"volume_lights, {label}: converges away from the MIS reference: {points[-1]}")
+    single = results.get("volume_lights", {}).get("single_scattering")
+    if single and not single["light_missing"] > 0:
+        problems.append(f"volume_lights: single scattering is not darker than multiple: {single}")
     points = results.get("bounces", {}).get("points", [])
     if points:
         if not points[-1]["light_missing"] < points[0]["light_missing"]:
@@ -446,6 +520,7 @@ SWEEPS = {
     "renderers": renderers_sweep,
     "ao_samples": ao_samples_sweep,
     "bounces": None,  # bounces_sweep, given the renderers sweep's path-traced reference
+    "volume_lights": volume_lights_sweep,
 }
 
 

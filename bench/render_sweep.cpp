@@ -8,6 +8,15 @@
 //       --out /tmp/pt_ [--scene cornell_box] [--size 128x128] [--isa auto] [--threads 0]
 //       [--spp 1] [--shadows] [--ao-samples N] [--ao-distance D] [--ambient I]
 //       [--max-path-length N]
+//       [--volume FILE.raw [--albedo A] [--extinction S] [--anisotropy G]]
+//       [--sphere-light X,Y,Z,RADIUS,INTENSITY]
+//
+// --volume renders a real volume (io::read_volume) instead of --scene, as a participating
+// medium: a grey transfer function of colour (single-scattering albedo) A whose opacity
+// rises linearly from 0 to S over the value range (densityScale 1, so S is the densest
+// extinction per world unit), Henyey–Greenstein anisotropy G, seen along +y from in front
+// of the volume. --sphere-light replaces the scene's lights with a sphere light (radiant
+// intensity INTENSITY); --ambient adds to either.
 //
 // writes /tmp/pt_<frames>.pfm per checkpoint and prints one JSON object:
 //   {"isa": ..., "threads": ..., "width": ..., "height": ..., "spp": ...,
@@ -18,16 +27,20 @@
 #include <tbb/task_arena.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
+#include <cstdint>
 #include <cstdio>
 #include <ctime>
 #include <exception>
 #include <iostream>
+#include <memory>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include "sciray/io/frame_io.hpp"
+#include "sciray/io/volume.hpp"
 #include "sciray/shim/engine.hpp"
 #include "sciray/testing/scenes.hpp"
 
@@ -46,6 +59,9 @@ struct Options {
   float ao_distance = 1e20f;
   float ambient = 0.f;  // > 0: add an ambient light of this intensity to the scene's lights
   int max_path_length = 20;
+  std::string volume;  // a volume file instead of `scene`
+  float albedo = 0.8f, extinction = 0.15f, anisotropy = 0.f;
+  std::vector<float> sphere_light;  // x, y, z, radius, intensity
   std::vector<int> checkpoints{1};
   std::string out = "sweep_";
 };
@@ -54,6 +70,16 @@ double cpu_seconds() {
   timespec t{};
   clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
   return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
+
+std::vector<float> parse_floats(const std::string& arg, const std::string& text, std::size_t count) {
+  std::vector<float> values;
+  std::stringstream in(text);
+  std::string item;
+  while (std::getline(in, item, ',')) values.push_back(std::stof(item));
+  if (values.size() != count)
+    throw sciray::Error(arg + ": expected " + std::to_string(count) + " comma-separated numbers, got '" + text + "'");
+  return values;
 }
 
 std::vector<int> parse_ints(const std::string& text) {
@@ -100,6 +126,16 @@ Options parse(int argc, char** argv) {
       o.ambient = std::stof(value());
     else if (arg == "--max-path-length")
       o.max_path_length = std::stoi(value());
+    else if (arg == "--volume")
+      o.volume = value();
+    else if (arg == "--albedo")
+      o.albedo = std::stof(value());
+    else if (arg == "--extinction")
+      o.extinction = std::stof(value());
+    else if (arg == "--anisotropy")
+      o.anisotropy = std::stof(value());
+    else if (arg == "--sphere-light")
+      o.sphere_light = parse_floats(arg, value(), 5);
     else if (arg == "--checkpoints")
       o.checkpoints = parse_ints(value());
     else if (arg == "--out")
@@ -149,13 +185,36 @@ sciray::shim::RendererConfig renderer_config(const Options& o, const std::vector
   throw sciray::Error("--renderer: expected scivis, ao or pathtracer, got '" + o.renderer + "'");
 }
 
+/// Adds the volume file of `o` to `world` as a scattering medium (see the top comment).
+void add_volume(sciray::shim::EngineWorld& world, const sciray::io::VolumeFile& file, const Options& o) {
+  const auto add = [&](auto voxel_tag) {
+    using Voxel = decltype(voxel_tag);
+    auto volume = std::make_shared<const sciray::StructuredRegular<Voxel>>(
+        sciray::LinearLayout<Voxel>(reinterpret_cast<const Voxel*>(file.voxels->data()), file.dims, file.voxels),
+        file.grid);
+    const std::array<float, 2> range = file.range ? *file.range : volume->value_range();
+    world.add_volume(sciray::VolumetricModel(
+        volume, sciray::TransferFunction({{o.albedo, o.albedo, o.albedo}}, {0.f, o.extinction}, range), 1.f,
+        o.anisotropy));
+  };
+  switch (file.kind) {
+    case sciray::io::VoxelKind::uint8: add(std::uint8_t{}); break;
+    case sciray::io::VoxelKind::int16: add(std::int16_t{}); break;
+    case sciray::io::VoxelKind::uint16: add(std::uint16_t{}); break;
+    case sciray::io::VoxelKind::float32: add(float{}); break;
+    case sciray::io::VoxelKind::float64: add(double{}); break;
+  }
+}
+
 int run(const Options& o) {
   const sciray::simd::Isa isa = sciray::shim::select_isa(o.isa);
   const auto& kernels = sciray::shim::kernels(isa);
   const int threads = o.threads > 0 ? o.threads : tbb::info::default_concurrency();
-  sciray::testing::StandardScene standard = sciray::testing::standard_scene(o.scene, SCIRAY_DATA_DIR);
+  sciray::testing::StandardScene standard =
+      o.volume.empty() ? sciray::testing::standard_scene(o.scene, SCIRAY_DATA_DIR) : sciray::testing::StandardScene{};
   sciray::accel::Device device;
   sciray::shim::EngineWorld world(device);
+  if (!o.volume.empty()) add_volume(world, sciray::io::read_volume(o.volume), o);
   // A scene's material (if it has one) shades all its geometry.
   std::vector<sciray::Material> materials;
   if (standard.material) materials.push_back(*standard.material);
@@ -164,10 +223,28 @@ int run(const Options& o) {
   if (standard.spheres) world.add(sciray::Spheres(std::move(*standard.spheres)), material);
   if (standard.curves) world.add(sciray::Curves(std::move(*standard.curves)), material);
   kernels.commit(world);
+  if (!o.volume.empty()) {
+    // In front of the volume looking along +y, the box filling the height of a 40° view.
+    const sciray::Box3f box = world.bounds();
+    const sciray::Vec3f centre = 0.5f * (box.lower + box.upper), size = box.upper - box.lower;
+    sciray::PerspectiveCamera front;
+    front.position = centre - sciray::Vec3f{0.f, 1.42f * size.y, 0.f};
+    front.direction = {0.f, 1.f, 0.f};
+    front.up = {0.f, 0.f, 1.f};
+    front.fovy = 40.f;
+    standard.camera = front;
+  }
   const float aspect = static_cast<float>(o.width) / static_cast<float>(o.height);
   sciray::PerspectiveCamera camera = standard.camera ? *standard.camera : sciray::frame_bounds(world.bounds(), aspect);
   camera.aspect = aspect;
   std::vector<sciray::Light> lights = standard.lights.empty() ? sciray::default_lights() : standard.lights;
+  if (!o.sphere_light.empty()) {
+    sciray::SphereLight lamp;
+    lamp.position = {o.sphere_light[0], o.sphere_light[1], o.sphere_light[2]};
+    lamp.radius = o.sphere_light[3];
+    lamp.intensity = o.sphere_light[4];
+    lights = {lamp};
+  }
   if (o.ambient > 0.f) {
     sciray::AmbientLight ambient;
     ambient.intensity = o.ambient;
