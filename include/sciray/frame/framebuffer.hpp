@@ -12,6 +12,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <limits>
 #include <string>
 #include <vector>
@@ -154,45 +155,21 @@ public:
   void write_packet(const std::int32_t* pixel, const PixelSample<Arch>& sample,
                     const simd::Float<Arch>& depth_projected) {
     constexpr int W = simd::width<Arch>;
-    alignas(64) float rgba[4][W];
-    simd::store<Arch>(rgba[0], sample.color.x);
-    simd::store<Arch>(rgba[1], sample.color.y);
-    simd::store<Arch>(rgba[2], sample.color.z);
-    simd::store<Arch>(rgba[3], sample.alpha);
-    if (has(channel_depth)) {
-      alignas(64) float t[W], tz[W];
-      simd::store<Arch>(t, sample.t);
-      simd::store<Arch>(tz, depth_projected);
-      for (int i = 0; i < W; ++i)
-        if (pixel[i] >= 0) depth_[pixel[i]] = t[i], depth_projected_[pixel[i]] = tz[i];
-    }
-    store_ids<Arch>(pixel, primitive_id_, sample.prim_id);
-    store_ids<Arch>(pixel, object_id_, sample.geom_id);
-    store_ids<Arch>(pixel, instance_id_, sample.inst_id);
     // Frames of each lane's tile before this one (a stamp lies in one tile, but lanes
-    // are looked up one by one so that any packet works).
-    alignas(64) std::uint32_t before[W];
-    for (int i = 0; i < W; ++i) before[i] = pixel[i] >= 0 ? tile_frames(tile_of(pixel[i])) : 0;
-    average_into<Arch>(pixel, before, normal_, sample.normal);
-    average_into<Arch>(pixel, before, albedo_, sample.albedo);
-    if (has(channel_accum)) {
-      for (int i = 0; i < W; ++i) {
-        if (pixel[i] < 0) continue;
-        const auto p = static_cast<std::size_t>(pixel[i]);
-        if (!odd_luminance_.empty()) {
-          float& odd = odd_luminance_[p];
-          if (before[i] == 0) odd = 0.f;
-          if (before[i] % 2 == 1) odd += luminance(rgba[0][i], rgba[1][i], rgba[2][i]);
-        }
-        float* acc = &accum_[4 * p];
-        const float inv = 1.f / static_cast<float>(before[i] + 1);
-        for (int c = 0; c < 4; ++c) {
-          acc[c] = before[i] == 0 ? rgba[c][i] : acc[c] + rgba[c][i];
-          rgba[c][i] = acc[c] * inv;
-        }
-      }
-    }
-    output_color<Arch>(pixel, rgba);
+    // are looked up one by one so that any packet works); only averaged channels need them.
+    alignas(64) std::uint32_t before[W] = {};
+    if (averages())
+      for (int i = 0; i < W; ++i) before[i] = pixel[i] >= 0 ? tile_frames(tile_of(pixel[i])) : 0;
+    write_lanes<Arch>(pixel, sample, depth_projected, before);
+  }
+  /// write_packet() for a packet whose pixels all lie in one tile, which has
+  /// `tile_frames_before` frames so far (its tile_frames()): no per-lane tile lookup.
+  template <class Arch>
+  void write_packet(const std::int32_t* pixel, const PixelSample<Arch>& sample,
+                    const simd::Float<Arch>& depth_projected, std::uint32_t tile_frames_before) {
+    alignas(64) std::uint32_t before[simd::width<Arch>];
+    std::fill_n(before, simd::width<Arch>, tile_frames_before);
+    write_lanes<Arch>(pixel, sample, depth_projected, before);
   }
 
   /// The image operations applied, in order, to the colour output (not to the
@@ -256,6 +233,51 @@ public:
   }
 
 private:
+  /// Whether a write needs the frames already in each pixel's tile.
+  bool averages() const { return !accum_.empty() || !normal_.empty() || !albedo_.empty(); }
+
+  /// write_packet() with the frames before this one of each lane's tile.
+  template <class Arch>
+  void write_lanes(const std::int32_t* pixel, const PixelSample<Arch>& sample,
+                   const simd::Float<Arch>& depth_projected, const std::uint32_t* before) {
+    constexpr int W = simd::width<Arch>;
+    alignas(64) float rgba[4][W];
+    simd::store<Arch>(rgba[0], sample.color.x);
+    simd::store<Arch>(rgba[1], sample.color.y);
+    simd::store<Arch>(rgba[2], sample.color.z);
+    simd::store<Arch>(rgba[3], sample.alpha);
+    if (has(channel_depth)) {
+      alignas(64) float t[W], tz[W];
+      simd::store<Arch>(t, sample.t);
+      simd::store<Arch>(tz, depth_projected);
+      for (int i = 0; i < W; ++i)
+        if (pixel[i] >= 0) depth_[pixel[i]] = t[i], depth_projected_[pixel[i]] = tz[i];
+    }
+    store_ids<Arch>(pixel, primitive_id_, sample.prim_id);
+    store_ids<Arch>(pixel, object_id_, sample.geom_id);
+    store_ids<Arch>(pixel, instance_id_, sample.inst_id);
+    average_into<Arch>(pixel, before, normal_, sample.normal);
+    average_into<Arch>(pixel, before, albedo_, sample.albedo);
+    if (has(channel_accum)) {
+      for (int i = 0; i < W; ++i) {
+        if (pixel[i] < 0) continue;
+        const auto p = static_cast<std::size_t>(pixel[i]);
+        if (!odd_luminance_.empty()) {
+          float& odd = odd_luminance_[p];
+          if (before[i] == 0) odd = 0.f;
+          if (before[i] % 2 == 1) odd += luminance(rgba[0][i], rgba[1][i], rgba[2][i]);
+        }
+        float* acc = &accum_[4 * p];
+        const float inv = 1.f / static_cast<float>(before[i] + 1);
+        for (int c = 0; c < 4; ++c) {
+          acc[c] = before[i] == 0 ? rgba[c][i] : acc[c] + rgba[c][i];
+          rgba[c][i] = acc[c] * inv;
+        }
+      }
+    }
+    output_color<Arch>(pixel, rgba);
+  }
+
   static float luminance(float r, float g, float b) { return 0.2126f * r + 0.7152f * g + 0.0722f * b; }
 
   std::size_t tile_pixels(int tile) const {
@@ -340,12 +362,22 @@ private:
       const F clamped = simd::min(simd::max(v, F(0.f)), F(1.f));
       simd::store<Arch>(q[c], simd::to_int(clamped * (c == 3 ? F(255.f) : scale) + F(0.5f)));
     }
-    const auto& table = detail::srgb_table();
-    for (int i = 0; i < W; ++i) {
-      if (pixel[i] < 0) continue;
-      std::uint8_t* out = &color8_[4 * static_cast<std::size_t>(pixel[i])];
-      for (int c = 0; c < 3; ++c) out[c] = srgb ? table[static_cast<std::size_t>(q[c][i])] : static_cast<std::uint8_t>(q[c][i]);
-      out[3] = static_cast<std::uint8_t>(q[3][i]);
+    // One 4-byte store per pixel, not four byte stores.
+    const auto store = [&](int i, std::uint8_t r, std::uint8_t g, std::uint8_t b) {
+      const std::uint8_t bytes[4] = {r, g, b, static_cast<std::uint8_t>(q[3][i])};
+      std::memcpy(&color8_[4 * static_cast<std::size_t>(pixel[i])], bytes, 4);
+    };
+    if (srgb) {
+      const auto& table = detail::srgb_table();
+      for (int i = 0; i < W; ++i)
+        if (pixel[i] >= 0)
+          store(i, table[static_cast<std::size_t>(q[0][i])], table[static_cast<std::size_t>(q[1][i])],
+                table[static_cast<std::size_t>(q[2][i])]);
+    } else {
+      for (int i = 0; i < W; ++i)
+        if (pixel[i] >= 0)
+          store(i, static_cast<std::uint8_t>(q[0][i]), static_cast<std::uint8_t>(q[1][i]),
+                static_cast<std::uint8_t>(q[2][i]));
     }
   }
 

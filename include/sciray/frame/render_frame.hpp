@@ -10,6 +10,7 @@
 #include <cmath>
 #include <concepts>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <variant>
 
@@ -116,6 +117,15 @@ std::uint32_t render_frame(const Renderer& renderer, const CameraT& camera, Fram
   else
     lane_dy = xsimd::floor(lane * F(1.f / S::width));
   const F lane_dx = lane - lane_dy * F(static_cast<float>(S::width));
+  // Lane i's pixel relative to the stamp's first, for stamps wholly inside the image.
+  alignas(64) std::int32_t lane_offset[W];
+  for (int i = 0; i < W; ++i) lane_offset[i] = (i / S::width) * width + i % S::width;
+  const simd::Int<Arch> lane_offsets = simd::load<Arch>(lane_offset);
+  // Sample 0 of every pixel lies at the centre, film (0.5, 0.5), which every filter maps
+  // to offset 0 exactly; only the lens (if the camera has one) needs its per-pixel
+  // sequence then.
+  bool uses_lens = true;
+  if constexpr (requires { camera.uses_lens(); }) uses_lens = camera.uses_lens();
 
   tbb::parallel_for(tbb::blocked_range<int>(0, tile_count), [&](const tbb::blocked_range<int>& range) {
     alignas(64) std::int32_t pixel[W];
@@ -123,28 +133,45 @@ std::uint32_t render_frame(const Renderer& renderer, const CameraT& camera, Fram
     for (int tile = range.begin(); tile != range.end(); ++tile) {
       if (control && control->cancel.load(std::memory_order_relaxed)) return;
       if (!fb.tile_converged(tile, settings.variance_threshold)) {
-        const std::uint32_t first_sample = fb.tile_frames(tile) * samples;
+        const std::uint32_t tile_frames = fb.tile_frames(tile);
+        const std::uint32_t first_sample = tile_frames * samples;
+        const bool needs_sequence = uses_lens || first_sample + samples > 1;
         const int tile_x0 = (tile % fb.tiles_x()) * tile_size, tile_y0 = (tile / fb.tiles_x()) * tile_size;
         for (int y0 = tile_y0; y0 < std::min(tile_y0 + tile_size, height); y0 += S::height) {
           for (int x0 = tile_x0; x0 < std::min(tile_x0 + tile_size, width); x0 += S::width) {
-            for (int i = 0; i < W; ++i) {
-              const int x = x0 + i % S::width, y = y0 + i / S::width;
-              pixel[i] = x < width && y < height ? y * width + x : -1;
-              inside[i] = pixel[i] >= 0 ? 1.f : 0.f;
+            M active;
+            simd::Int<Arch> pixels;
+            if (x0 + S::width <= width && y0 + S::height <= height) {
+              pixels = simd::Int<Arch>(y0 * width + x0) + lane_offsets;
+              simd::store<Arch>(pixel, pixels);
+              active = M(true);
+            } else {
+              for (int i = 0; i < W; ++i) {
+                const int x = x0 + i % S::width, y = y0 + i / S::width;
+                pixel[i] = x < width && y < height ? y * width + x : -1;
+                inside[i] = pixel[i] >= 0 ? 1.f : 0.f;
+              }
+              active = simd::load<Arch>(inside) > F(0.f);
+              pixels = simd::load<Arch>(pixel);
             }
-            const M active = simd::load<Arch>(inside) > F(0.f);
-            const simd::Int<Arch> pixels = simd::load<Arch>(pixel);
-            const CameraSequence<Arch> sequence(pixels);
             const F pixel_x = F(static_cast<float>(x0) + 0.5f) + lane_dx;
             const F pixel_y = F(static_cast<float>(y0) + 0.5f) + lane_dy;
+            std::optional<CameraSequence<Arch>> sequence;
+            if (needs_sequence) sequence.emplace(pixels);
             // Sample s of every lane, and its projected depth.
             F projected;
             const auto render_sample = [&](std::uint32_t s) {
               const std::uint32_t sample_index = first_sample + s;
-              const CameraSamples<F> cs = sequence(sample_index);
-              F offset_x, offset_y;
-              filter.template sample<Arch>(cs.film_x, cs.film_y, offset_x, offset_y);
-              const F screen_x = (pixel_x + offset_x) * F(inv_width), screen_y = (pixel_y + offset_y) * F(inv_height);
+              CameraSamples<F> cs{F(0.5f), F(0.5f), F(0.5f), F(0.5f)};
+              if (sequence) cs = (*sequence)(sample_index);
+              F screen_x, screen_y;
+              if (sample_index == 0) {
+                screen_x = pixel_x * F(inv_width), screen_y = pixel_y * F(inv_height);
+              } else {
+                F offset_x, offset_y;
+                filter.template sample<Arch>(cs.film_x, cs.film_y, offset_x, offset_y);
+                screen_x = (pixel_x + offset_x) * F(inv_width), screen_y = (pixel_y + offset_y) * F(inv_height);
+              }
               const auto ray = camera.generate(screen_x, screen_y, cs.lens_u, cs.lens_v);
               PixelSample<Arch> one =
                   renderer.render(ray, active, SampleIndex<Arch>{pixels, sample_index, screen_x, screen_y});
@@ -172,7 +199,7 @@ std::uint32_t render_frame(const Renderer& renderer, const CameraT& camera, Fram
               frame.normal = frame.normal * inv_samples;
               frame.albedo = frame.albedo * inv_samples;
             }
-            fb.write_packet<Arch>(pixel, frame, frame_projected);
+            fb.write_packet<Arch>(pixel, frame, frame_projected, tile_frames);
           }
         }
         fb.finish_tile(tile);

@@ -165,6 +165,9 @@ struct PreparedPerspective {
     ray.dir = normalize(pinhole * T(focus_distance) - lens);
     return ray;
   }
+  /// Whether generate() reads its lens sample (a pinhole without stereo does not, so
+  /// the frame loop need not draw one).
+  bool uses_lens() const { return !(lens_du == Vec3f{0.f, 0.f, 0.f} && stereo == StereoMode::none); }
   /// Distance along the view axis of a point at Euclidean distance t along `dir` (the
   /// lens lies in a plane across that axis).
   template <class T>
@@ -185,6 +188,7 @@ struct PreparedOrthographic {
     ray.dir = Vec3<T>(forward);
     return ray;
   }
+  bool uses_lens() const { return false; }
   template <class T>
   T projected_depth(const Ray<T>&, const T& t) const {
     return t;
@@ -214,6 +218,7 @@ struct PreparedPanoramic {
     ray.org = Vec3<T>(position) + heading_right * (eye.side * T(half_ipd));
     return ray;
   }
+  bool uses_lens() const { return false; }
   /// There is no view plane: depth is the distance.
   template <class T>
   T projected_depth(const Ray<T>&, const T& t) const {

@@ -19,6 +19,7 @@
 // materials without maps take the packet-wide values, as cheaply as before.
 #include <cmath>
 #include <limits>
+#include <new>
 #include <type_traits>
 
 #include "sciray/render/common.hpp"
@@ -102,10 +103,19 @@ public:
   LocalRenderer& operator=(const LocalRenderer&) = delete;
 
   PixelSample<Arch> render(const Ray<F>& camera_ray, const M& active, const SampleIndex<Arch>& index = {}) const {
-    PixelRandom rng[W];
-    if (needs_random_)
+    // Constructed only where random numbers are drawn: W generators seeded for nothing
+    // cost a primary frame about 1 %.
+    static_assert(std::is_trivially_destructible_v<PixelRandom>);
+    union Generators {
+      Generators() {}
+      PixelRandom lanes[W];
+    } generators;
+    PixelRandom* rng = nullptr;
+    if (needs_random_) {
       for (int i = 0; i < W; ++i)
-        rng[i] = PixelRandom(static_cast<std::uint32_t>(simd::lane(index.pixel, i)), index.sample);
+        new (&generators.lanes[i]) PixelRandom(static_cast<std::uint32_t>(simd::lane(index.pixel, i)), index.sample);
+      rng = generators.lanes;
+    }
     const F inf(std::numeric_limits<float>::infinity());
 
     PixelSample<Arch> out;
