@@ -117,7 +117,6 @@ public:
   VolumeSample<Arch> integrate(const Ray<simd::Float<Arch>>& ray, const simd::Mask<Arch>& active,
                                const simd::Float<Arch>& t_end, const VolumeIntegration& how) const {
     using F = simd::Float<Arch>;
-    using I = simd::Int<Arch>;
     VolumeSample<Arch> out{Vec3<F>(Vec3f{0.f, 0.f, 0.f}), F(0.f)};
     const Vec3<F> inv{F(1.f) / ray.dir.x, F(1.f) / ray.dir.y, F(1.f) / ray.dir.z};
     const auto [enter, leave] = span<Arch>(ray, inv, t_end);
@@ -144,13 +143,7 @@ public:
       // adaptive ones (whose length depends on the answer) at their start.
       if (how.empty_space_skipping || how.adaptive_sampling) {
         const F probe_t = how.adaptive_sampling ? t : simd::min(t + F(0.5f * dt), leave);
-        const Vec3<F> m = volume_->to_voxel(ray.org + ray.dir * probe_t) * F(1.f / macrocell_cells);
-        const auto cell_index = [&](const F& v, int axis) {
-          return simd::to_int(simd::min(simd::max(v, F(0.f)), F(static_cast<float>(cells_[axis] - 1))));
-        };
-        const I cx = cell_index(m.x, 0), cy = cell_index(m.y, 1), cz = cell_index(m.z, 2);
-        const I index = (cz * I(static_cast<std::int32_t>(cells_[1])) + cy) * I(static_cast<std::int32_t>(cells_[0])) + cx;
-        const F densest = simd::gather<Arch>(opacity_.data(), index);
+        const auto [cx, cy, cz, densest] = macrocell<Arch>(ray.org + ray.dir * probe_t);
         if (how.adaptive_sampling)
           // At most `adaptive_optical_depth` absorbed a step, between 4× finer and 4× coarser
           // than the base rate: fine where the medium is dense, coarse where it is thin.
@@ -265,6 +258,26 @@ public:
   }
 
 private:
+  /// The macrocell holding world positions `p` (clamped to the grid) and the largest σ
+  /// it can give.
+  template <class Arch>
+  struct MacrocellAt {
+    simd::Int<Arch> x, y, z;
+    simd::Float<Arch> densest;
+  };
+  template <class Arch>
+  MacrocellAt<Arch> macrocell(const Vec3<simd::Float<Arch>>& p) const {
+    using F = simd::Float<Arch>;
+    using I = simd::Int<Arch>;
+    const Vec3<F> m = volume_->to_voxel(p) * F(1.f / macrocell_cells);
+    const auto cell_index = [&](const F& v, int axis) {
+      return simd::to_int(simd::min(simd::max(v, F(0.f)), F(static_cast<float>(cells_[axis] - 1))));
+    };
+    const I x = cell_index(m.x, 0), y = cell_index(m.y, 1), z = cell_index(m.z, 2);
+    const I index = (z * I(static_cast<std::int32_t>(cells_[1])) + y) * I(static_cast<std::int32_t>(cells_[0])) + x;
+    return {x, y, z, simd::gather<Arch>(opacity_.data(), index)};
+  }
+
   /// Where each ray enters and leaves the volume's box, within [tnear, min(t_end, tfar)].
   template <class Arch>
   std::pair<simd::Float<Arch>, simd::Float<Arch>> span(const Ray<simd::Float<Arch>>& ray,
@@ -300,13 +313,7 @@ private:
     // Probing a little past t finds the macrocell a lane is entering, not the one it leaves.
     const float nudge = 1e-4f * std::min({grid.spacing.x, grid.spacing.y, grid.spacing.z});
     while (simd::any(tracking)) {
-      const Vec3<F> m = volume_->to_voxel(ray.org + ray.dir * (t + F(nudge))) * F(1.f / macrocell_cells);
-      const auto cell_index = [&](const F& v, int axis) {
-        return simd::to_int(simd::min(simd::max(v, F(0.f)), F(static_cast<float>(cells_[axis] - 1))));
-      };
-      const I cx = cell_index(m.x, 0), cy = cell_index(m.y, 1), cz = cell_index(m.z, 2);
-      const I index = (cz * I(static_cast<std::int32_t>(cells_[1])) + cy) * I(static_cast<std::int32_t>(cells_[0])) + cx;
-      const F majorant = simd::gather<Arch>(opacity_.data(), index);
+      const auto [cx, cy, cz, majorant] = macrocell<Arch>(ray.org + ray.dir * (t + F(nudge)));
       // The outermost macrocells reach on to the box's faces (and past them: `leave` stops
       // the lane there), so that no lane is left outside every macrocell.
       const auto planes = [&](const I& c, int axis, float origin, float size, F& lo, F& hi) {
