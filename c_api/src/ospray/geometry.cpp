@@ -1,0 +1,366 @@
+// OSPRay's geometries (mesh, sphere, curve, box, plane, isosurface) and geometric models.
+#include "scene_common.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <string>
+#include <type_traits>
+
+namespace sciray::ospray {
+
+void Geometry::on_commit() {
+  // The factory creates no other types.
+  if (subtype() == "sphere")
+    commit_spheres();
+  else if (subtype() == "curve")
+    commit_curves();
+  else if (subtype() == "box")
+    commit_boxes();
+  else if (subtype() == "plane")
+    commit_planes();
+  else if (subtype() == "isosurface")
+    commit_isosurface();
+  else
+    commit_mesh();
+}
+
+void Geometry::commit_mesh() {
+  const Data* position = get_data(*this, find("vertex.position"), "vertex.position", {OSP_VEC3F});
+  if (!position) throw Error(name() + ": required parameter 'vertex.position' (array of vec3f) is missing");
+  const Data* index = get_data(*this, find("index"), "index", {OSP_VEC3UI, OSP_VEC3I, OSP_VEC4UI, OSP_VEC4I});
+  if (!index) throw Error(name() + ": required parameter 'index' (array of vec3ui or vec4ui) is missing");
+  const Data* normal = get_data(*this, find("vertex.normal"), "vertex.normal", {OSP_VEC3F});
+  const Data* color = get_data(*this, find("vertex.color"), "vertex.color", {OSP_VEC4F, OSP_VEC3F});
+  const Data* texcoord = get_data(*this, find("vertex.texcoord"), "vertex.texcoord", {OSP_VEC2F});
+
+  // A copy, padded for Embree: the application's arrays carry no padding guarantee.
+  auto mesh = std::make_shared<MeshData>();
+  append_floats(mesh->positions, *position, 3);
+  const bool quads = index->element_type() == OSP_VEC4UI || index->element_type() == OSP_VEC4I;
+  mesh->vertices_per_face = quads ? 4 : 3;
+  mesh->indices.reserve(mesh->vertices_per_face * index->size());
+  for (std::uint64_t f = 0; f < index->size(); ++f)
+    for (unsigned c = 0; c < mesh->vertices_per_face; ++c) {
+      std::uint32_t v;
+      std::memcpy(&v, index->element(f) + 4 * c, sizeof v);  // a negative int becomes out of range
+      mesh->indices.push_back(v);
+    }
+  if (normal) append_floats(mesh->normals, *normal, 3);
+  if (color) append_colors(mesh->vertex_colors, *color);
+  if (texcoord) append_floats(mesh->texcoords, *texcoord, 2);
+  TriangleMesh check(mesh);
+  check.validate();  // names the bad index or vertex: "mesh: 'index' of face 3 refers to ..."
+  bounds_ = check.bounds();
+  primitive_count_ = check.face_count();
+  mesh_ = std::move(mesh);
+}
+
+void Geometry::commit_spheres() {
+  const Data* position = get_data(*this, find("sphere.position"), "sphere.position", {OSP_VEC3F});
+  if (!position) throw Error(name() + ": required parameter 'sphere.position' (array of vec3f) is missing");
+  const Data* radius = get_data(*this, find("sphere.radius"), "sphere.radius", {OSP_FLOAT});
+  const Data* texcoord = get_data(*this, find("sphere.texcoord"), "sphere.texcoord", {OSP_VEC2F});
+  const auto type = static_cast<SphereType>(
+      get_enum(*this, get_int("type", OSP_SPHERE), "type", {"OSP_SPHERE", "OSP_DISC", "OSP_ORIENTED_DISC"}));
+  // Normals orient discs only; otherwise the parameter is reported as unused.
+  const Data* normal = type == SphereType::oriented_disc
+                           ? get_data(*this, find("sphere.normal"), "sphere.normal", {OSP_VEC3F})
+                           : nullptr;
+  SphereIntersector intersector = SphereIntersector::sciray;
+  if (const Param* p = find("intersector")) {
+    if (p->type != OSP_STRING)
+      throw Error(name() + ": parameter 'intersector' must be a string, got " + type_name(p->type));
+    if (p->string == "embree")
+      intersector = SphereIntersector::embree;
+    else if (p->string != "sciray")
+      throw Error(name() + ": parameter 'intersector' has unknown value '" + p->string + "' (sciray, embree)");
+  }
+
+  auto data = std::make_shared<SphereData>();
+  append_floats(data->positions, *position, 3);
+  if (radius) append_floats(data->radii, *radius, 1);
+  data->radius = get_float("radius", 0.01f);
+  if (normal) append_floats(data->normals, *normal, 3);
+  if (texcoord) append_floats(data->texcoords, *texcoord, 2);
+  Spheres check(data);
+  check.set_type(type).set_intersector(intersector);
+  check.validate();  // "sphere: 'sphere.radius' 2 must be positive, got -1"
+  bounds_ = check.bounds();
+  primitive_count_ = check.count();
+  sphere_type_ = type;
+  sphere_intersector_ = intersector;
+  spheres_ = std::move(data);
+}
+
+void Geometry::commit_curves() {
+  const Data* index = get_data(*this, find("index"), "index", {OSP_UINT, OSP_INT});
+  if (!index) throw Error(name() + ": required parameter 'index' (array of uint) is missing");
+  const auto type_of = [&](int value) {
+    return static_cast<CurveType>(
+        get_enum(*this, value, "type", {"OSP_ROUND", "OSP_FLAT", "OSP_RIBBON", "OSP_DISJOINT"}));
+  };
+  const auto basis_of = [&](int value) {
+    return static_cast<CurveBasis>(get_enum(*this, value, "basis",
+                                            {"OSP_LINEAR", "OSP_BEZIER", "OSP_BSPLINE", "OSP_HERMITE", "OSP_CATMULL_ROM"}));
+  };
+
+  auto data = std::make_shared<CurveData>();
+  // As OSPRay: `vertex.position` with one `radius` makes round linear curves (and wins
+  // over `vertex.position_radius`, which is then reported unused); otherwise
+  // `vertex.position_radius`, `type` and `basis` are required.
+  const Data* position = get_data(*this, find("vertex.position"), "vertex.position", {OSP_VEC3F});
+  const Data* tangent = nullptr;
+  const Data* normal = nullptr;
+  if (position) {
+    const float radius = get_float("radius", 0.01f);
+    if (!(radius >= 0.f) || !std::isfinite(radius))
+      throw Error(name() + ": parameter 'radius' must be finite and not negative, got " + std::to_string(radius));
+    data->type = type_of(get_int("type", OSP_ROUND));
+    data->basis = basis_of(get_int("basis", OSP_LINEAR));
+    if (data->type != CurveType::round || data->basis != CurveBasis::linear)
+      throw Error(name() + ": 'vertex.position' with a constant 'radius' needs type OSP_ROUND and basis OSP_LINEAR "
+                           "(as in OSPRay); give 'vertex.position_radius' for other curves");
+    data->position_radius.reserve(4 * position->size());
+    for (std::uint64_t i = 0; i < position->size(); ++i) {
+      for (int c = 0; c < 3; ++c) data->position_radius.push_back(read_float(position->element(i) + 4 * c));
+      data->position_radius.push_back(radius);
+    }
+  } else {
+    const Data* position_radius =
+        get_data(*this, find("vertex.position_radius"), "vertex.position_radius", {OSP_VEC4F});
+    if (!position_radius)
+      throw Error(name() + ": required parameter 'vertex.position_radius' (array of vec4f) is missing (or give "
+                           "'vertex.position' and 'radius' for round linear curves)");
+    if (!has("type"))
+      throw Error(name() + ": required parameter 'type' (OSPCurveType: OSP_ROUND, OSP_FLAT, OSP_RIBBON or "
+                           "OSP_DISJOINT) is missing");
+    if (!has("basis"))
+      throw Error(name() + ": required parameter 'basis' (OSPCurveBasis: OSP_LINEAR, OSP_BEZIER, OSP_BSPLINE, "
+                           "OSP_HERMITE or OSP_CATMULL_ROM) is missing");
+    data->type = type_of(get_int("type", OSP_UNKNOWN_CURVE_TYPE));
+    data->basis = basis_of(get_int("basis", OSP_UNKNOWN_CURVE_BASIS));
+    append_floats(data->position_radius, *position_radius, 4);
+    // Read only where the curve uses them, as OSPRay: otherwise reported unused.
+    if (data->type == CurveType::ribbon)
+      normal = get_data(*this, find("vertex.normal"), "vertex.normal", {OSP_VEC3F});
+    if (data->basis == CurveBasis::hermite)
+      tangent = get_data(*this, find("vertex.tangent"), "vertex.tangent", {OSP_VEC4F});
+  }
+  data->indices.reserve(index->size());
+  for (std::uint64_t s = 0; s < index->size(); ++s) {
+    std::uint32_t v;
+    std::memcpy(&v, index->element(s), sizeof v);  // a negative int becomes out of range
+    data->indices.push_back(v);
+  }
+  if (const Data* color = get_data(*this, find("vertex.color"), "vertex.color", {OSP_VEC4F, OSP_VEC3F}))
+    append_colors(data->colors, *color);
+  if (tangent) append_floats(data->tangents, *tangent, 4);
+  if (normal) append_floats(data->normals, *normal, 3);
+
+  Curves check(data);
+  try {
+    check.validate();  // "curve: 'index' 3 starts a segment at vertex 9 that needs vertex 10 but ..."
+  } catch (const Error& e) {
+    if (!position) throw;
+    // The positions arrived as `vertex.position`: name that, not the array made from it.
+    std::string message = e.what();
+    const std::string from = "'vertex.position_radius'", to = "'vertex.position'";
+    for (auto at = message.find(from); at != std::string::npos; at = message.find(from, at + to.size()))
+      message.replace(at, from.size(), to);
+    throw Error(message);
+  }
+  bounds_ = check.bounds();
+  primitive_count_ = check.segment_count();
+  curves_ = std::move(data);
+}
+
+void Geometry::commit_boxes() {
+  const Data* box = get_data(*this, find("box"), "box", {OSP_BOX3F});
+  if (!box) throw Error(name() + ": required parameter 'box' (array of box3f) is missing");
+  auto data = std::make_shared<BoxData>();
+  data->boxes = box->to_vector<Box3f>(read_box);
+  const Boxes check(data->boxes);
+  check.validate();  // "box: 'box' 1 is not a finite box with lower <= upper"
+  bounds_ = check.bounds();
+  primitive_count_ = check.count();
+  boxes_ = std::move(data);
+}
+
+void Geometry::commit_planes() {
+  const Data* coefficients = get_data(*this, find("plane.coefficients"), "plane.coefficients", {OSP_VEC4F});
+  if (!coefficients)
+    throw Error(name() + ": required parameter 'plane.coefficients' (array of vec4f) is missing");
+  const Data* bounds = get_data(*this, find("plane.bounds"), "plane.bounds", {OSP_BOX3F});
+  auto data = std::make_shared<PlaneData>();
+  data->planes = coefficients->to_vector<Planes::Plane>([](const std::byte* p) {
+    return Planes::Plane{read_float(p), read_float(p + 4), read_float(p + 8), read_float(p + 12)};
+  });
+  if (bounds) data->bounds = bounds->to_vector<Box3f>(read_box);
+  const Planes check(data->planes, data->bounds);
+  check.validate();  // "plane: 'plane.coefficients' 0 has a zero normal (a, b, c)"
+  bounds_ = check.bounds();  // unbounded planes add nothing
+  primitive_count_ = check.count();
+  planes_ = std::move(data);
+}
+
+std::string cannot_colour(const Geometry& geometry, const Material* material) {
+  if (!material) return {};
+  if (material->volume_map_kd() && !geometry.planes())
+    return "its material's 'map_kd' (a volume texture) is not supported yet on " + geometry.subtype() +
+           " geometry; volume textures colour plane geometry only (slices)";
+  return {};
+}
+
+void GeometricModel::on_commit() {
+  // Read into locals: a commit that fails leaves the model as it was.
+  Ref<Geometry> geometry = get_object<Geometry>("geometry", OSP_GEOMETRY, true);
+  if (!geometry->committed()) throw Error(name() + ": its geometry has not been committed");
+  Ref<Material> material;
+  if (const Param* p = find("material"); p && p->object) {
+    if (p->object->kind() == OSP_MATERIAL) {
+      material = static_cast<Material*>(p->object.get());
+    } else if (p->object->kind() == OSP_DATA) {
+      const Data* list = get_data(*this, p, "material", {OSP_MATERIAL});
+      if (list->size() != 1)
+        throw Error(name() + ": parameter 'material': per-primitive materials are not supported yet; pass one");
+      material = static_cast<Material*>(list->object(0));
+    } else {
+      throw Error(name() + ": parameter 'material' must be an OSPMaterial, got " + type_name(p->object->kind()));
+    }
+  } else if (p) {
+    throw Error(name() + ": parameter 'material' as a renderer material index is not supported yet; pass an "
+                         "OSPMaterial");
+  }
+  PaddedVector<float> face_colors;
+  if (const Data* color = get_data(*this, find("color"), "color", {OSP_VEC4F, OSP_VEC3F})) {
+    if (geometry->curves())
+      throw Error(name() + ": parameter 'color': per-primitive colours of curve geometry are not supported yet; give "
+                           "the curve's 'vertex.color'");
+    if (geometry->isosurface_volume())
+      throw Error(name() + ": parameter 'color': per-primitive colours of isosurface geometry are not supported yet "
+                           "(isosurfaces show the renderer's default grey)");
+    const std::size_t primitives = geometry->primitive_count();
+    if (color->size() != primitives)
+      throw Error(name() + ": parameter 'color' has " + std::to_string(color->size()) + " colours but the geometry has " +
+                  std::to_string(primitives) + " primitives");
+    append_colors(face_colors, *color);
+  }
+  if (const std::string why = cannot_colour(*geometry, material.get()); !why.empty()) throw Error(name() + ": " + why);
+  // Shading is two-sided, so the side matters only to clipping geometry.
+  const bool invert_normals = get_bool("invertNormals", false);
+  get_int("id", 0);
+  geometry_ = std::move(geometry);
+  material_ = std::move(material);
+  face_colors_ = std::move(face_colors);
+  invert_normals_ = invert_normals;
+}
+
+std::optional<Vec3f> GeometricModel::material_color() const {
+  if (!material_) return std::nullopt;
+  return material_->base_color();  // as last committed: a material commit reaches the world
+}
+
+TextureObject* GeometricModel::volume_texture() const { return material_ ? material_->volume_map_kd() : nullptr; }
+
+std::uint64_t GeometricModel::version() const {
+  std::uint64_t v = version_;
+  if (geometry_) v = std::max(v, geometry_->version());
+  if (material_) v = std::max(v, material_->version());
+  return v;
+}
+
+// ---- isosurfaces and volume textures -------------------------------------------------------
+
+namespace {
+
+/// The engine isosurface of `volume` (finds the macrocells that hold an isovalue).
+std::shared_ptr<const Isosurface> make_isosurface(const EngineVolume& volume, const std::vector<float>& isovalues) {
+  return std::visit(
+      [&](const auto& v) -> std::shared_ptr<const Isosurface> {
+        if constexpr (std::is_same_v<std::decay_t<decltype(v)>, std::monostate>)
+          throw Error("isosurface: its volume has not been committed");
+        else
+          return std::make_shared<const Isosurface>(v, isovalues);
+      },
+      volume);
+}
+
+}  // namespace
+
+void Geometry::commit_isosurface() {
+  // OSPRay 3 takes the volume itself (OSPRay 2 took a volumetric model).
+  const Param* p = find("volume");
+  if (!p || !p->object) throw Error(name() + ": required parameter 'volume' (OSPVolume) is missing");
+  if (p->object->kind() != OSP_VOLUME)
+    throw Error(name() + ": parameter 'volume' must be OSPVolume, got " + type_name(p->object->kind()) +
+                (p->object->kind() == OSP_VOLUMETRIC_MODEL
+                     ? " (in OSPRay 3 an isosurface takes the volume itself, not a volumetric model)"
+                     : ""));
+  Ref<VolumeObject> volume = static_cast<VolumeObject*>(p->object.get());
+  if (!volume->committed()) throw Error(name() + ": its volume has not been committed");
+
+  const Param* iso = find("isovalue");
+  if (!iso || (!iso->object && is_object_type(iso->type)))
+    throw Error(name() + ": required parameter 'isovalue' (float, or array of float) is missing");
+  std::vector<float> isovalues;
+  const bool array = static_cast<bool>(iso->object);
+  if (array) {
+    if (iso->object->kind() != OSP_DATA)
+      throw Error(name() + ": parameter 'isovalue' must be a float or an array of float, got " +
+                  type_name(iso->object->kind()));
+    isovalues = get_data(*this, iso, "isovalue", {OSP_FLOAT})->to_vector<float>(read_float);
+  } else if (iso->type == OSP_FLOAT) {
+    isovalues = {read_float(iso->bytes.data())};
+  } else {
+    throw Error(name() + ": parameter 'isovalue' must be a float or an array of float, got " + type_name(iso->type));
+  }
+  if (isovalues.empty()) throw Error(name() + ": parameter 'isovalue' is an empty array");
+  for (std::size_t i = 0; i < isovalues.size(); ++i)
+    if (!std::isfinite(isovalues[i]))
+      throw Error(name() + ": parameter 'isovalue' " + (array ? "element " + std::to_string(i) + " " : "") +
+                  "is not finite, got " + std::to_string(isovalues[i]));
+
+  auto surface = make_isosurface(volume->volume(), isovalues);
+  std::lock_guard lock(iso_mutex_);
+  isosurface_ = std::move(surface);
+  isosurface_volume_version_ = volume->version();
+  primitive_count_ = isovalues.size();  // OSPRay's primitives of an isosurface: its isovalues
+  isovalues_ = std::move(isovalues);
+  iso_volume_ = std::move(volume);
+}
+
+std::shared_ptr<const Isosurface> Geometry::isosurface() {
+  std::lock_guard lock(iso_mutex_);
+  if (!iso_volume_) return nullptr;
+  if (isosurface_volume_version_ != iso_volume_->version()) {
+    // The volume was recommitted: the new one's macrocells.
+    isosurface_ = make_isosurface(iso_volume_->volume(), isovalues_);
+    isosurface_volume_version_ = iso_volume_->version();
+  }
+  return isosurface_;
+}
+
+std::uint32_t Geometry::isovalue_index(const Vec3f& p) const {
+  if (!iso_volume_ || isovalues_.empty()) return 0;
+  const float value = std::visit(
+      [&](const auto& v) -> float {
+        if constexpr (std::is_same_v<std::decay_t<decltype(v)>, std::monostate>)
+          return 0.f;
+        else
+          return v->template sample<simd::scalar>(p);
+      },
+      iso_volume_->volume());
+  std::uint32_t best = 0;
+  for (std::uint32_t i = 1; i < isovalues_.size(); ++i)
+    if (std::abs(isovalues_[i] - value) < std::abs(isovalues_[best] - value)) best = i;
+  return best;
+}
+
+Box3f Geometry::bounds() const { return iso_volume_ ? iso_volume_->bounds() : bounds_; }
+
+std::uint64_t Geometry::version() const {
+  return std::max(version_, iso_volume_ ? iso_volume_->version() : 0);
+}
+
+}  // namespace sciray::ospray

@@ -1,0 +1,83 @@
+// OSPRay's renderers: scivis, ao, pathtracer.
+#include "scene_common.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <string>
+#include <type_traits>
+
+namespace sciray::ospray {
+
+void Renderer::on_commit() {
+  const auto common = [&](auto params) {
+    const auto background = get_color4("backgroundColor", {0.f, 0.f, 0.f, 0.f});
+    params.background_color = {background[0], background[1], background[2]};
+    params.background_alpha = background[3];
+    params.max_path_length = get_int("maxPathLength", params.max_path_length);
+    params.min_contribution = get_float("minContribution", params.min_contribution);
+    params.volume_sampling_rate = get_float("volumeSamplingRate", params.volume_sampling_rate);
+    if (auto* backplate = get_object<TextureObject>("map_backplate", OSP_TEXTURE, false)) {
+      if (!backplate->committed() || !backplate->image())
+        throw Error(name() + ": parameter 'map_backplate' must be a committed texture2d");
+      params.backplate = backplate->image();
+    }
+    return params;
+  };
+  shim::RendererConfig config;
+  if (subtype() == "scivis") {
+    SciVisParams p = common(SciVisParams{});
+    p.shadows = get_bool("shadows", p.shadows);
+    p.ao_samples = get_int("aoSamples", p.ao_samples);
+    p.ao_distance = get_float("aoDistance", p.ao_distance);
+    config = p;
+  } else if (subtype() == "ao") {
+    AOParams p = common(AOParams{});
+    p.ao_samples = get_int("aoSamples", p.ao_samples);
+    p.ao_distance = get_float("aoDistance", p.ao_distance);
+    p.ao_intensity = get_float("aoIntensity", p.ao_intensity);
+    config = p;
+  } else {
+    PathTracerParams p = common(PathTracerParams{});
+    p.roulette_path_length = get_int("roulettePathLength", p.roulette_path_length);
+    p.max_contribution = get_float("maxContribution", p.max_contribution);
+    config = p;
+  }
+  // What the renderers check of their parameters, checked now with no lights or materials.
+  std::visit(
+      [&](const auto& p) {
+        validate(p, 0, subtype());  // names "<type> renderer: parameter ..."
+        if constexpr (!std::is_same_v<std::decay_t<decltype(p)>, PathTracerParams>) {
+          if (p.ao_samples < 0) throw Error(name() + ": parameter 'aoSamples' must not be negative");
+          if (!(p.ao_distance > 0.f)) throw Error(name() + ": parameter 'aoDistance' must be positive");
+        } else {
+          if (p.roulette_path_length < 0) throw Error(name() + ": parameter 'roulettePathLength' must not be negative");
+          if (!(p.max_contribution > 0.f)) throw Error(name() + ": parameter 'maxContribution' must be positive");
+        }
+      },
+      config);
+  FrameSettings settings;
+  settings.pixel_samples = get_int("pixelSamples", 1);
+  settings.variance_threshold = get_float("varianceThreshold", 0.f);
+  try {
+    settings.pixel_filter = pixel_filter_from_int(get_int("pixelFilter", static_cast<int>(PixelFilter::gauss)));
+    validate(settings);
+  } catch (const Error& e) {
+    throw Error(name() + ": parameter " + e.what());
+  }
+  config_ = std::move(config);
+  settings_ = settings;
+}
+
+shim::RendererConfig Renderer::config(const BuiltWorld& world) const {
+  shim::RendererConfig config = config_;
+  std::visit(
+      [&](auto& p) {
+        p.lights = world.lights;
+        p.materials = world.materials;
+      },
+      config);
+  return config;
+}
+
+}  // namespace sciray::ospray

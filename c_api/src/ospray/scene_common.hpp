@@ -1,0 +1,58 @@
+#pragma once
+// What the scene objects' sources share: reading parameters and array elements in
+// OSPRay's conventions, and the few engine helpers more than one object family uses.
+#include <cstring>
+#include <initializer_list>
+#include <sstream>
+#include <string>
+
+#include "scene_objects.hpp"
+
+namespace sciray::ospray {
+
+/// The 1D data array parameter `p` (named `id`) of `owner`, with its element type among
+/// `accepted`; null where it is absent or set to NULL.
+const Data* get_data(const Object& owner, const Param* p, const std::string& id,
+                     std::initializer_list<OSPDataType> accepted);
+
+inline float read_float(const std::byte* p) {
+  float v;
+  std::memcpy(&v, p, sizeof v);
+  return v;
+}
+
+/// A box3f element: lower x, y, z, then upper x, y, z.
+inline Box3f read_box(const std::byte* p) {
+  Box3f b;
+  b.lower = {read_float(p), read_float(p + 4), read_float(p + 8)};
+  b.upper = {read_float(p + 12), read_float(p + 16), read_float(p + 20)};
+  return b;
+}
+
+/// Appends `components` floats of every element of `data` to `out` (honouring its byte
+/// strides), then `pad_to - components` ones: a vec3f colour becomes RGBA with alpha 1.
+void append_floats(PaddedVector<float>& out, const Data& data, int components, int pad_to = 0);
+
+/// An RGBA colour array (vec4f, or vec3f with alpha 1) copied into `out`.
+inline void append_colors(PaddedVector<float>& out, const Data& data) {
+  append_floats(out, data, data.element_type() == OSP_VEC4F ? 4 : 3, 4);
+}
+
+/// An OSPRay enum parameter (set as int, uint or uchar) in [0, count), by its names.
+int get_enum(const Object& owner, int value, const char* id, std::initializer_list<const char*> names);
+
+inline std::string format_vec(const Vec3f& v) {
+  std::ostringstream out;
+  out << "(" << v.x << ", " << v.y << ", " << v.z << ")";
+  return out.str();
+}
+
+/// Why `material` cannot colour `geometry` yet ("" where it can): a volume texture
+/// colours planes only (slices). What a model's commit and every world build (the
+/// material may be recommitted later) check.
+std::string cannot_colour(const Geometry& geometry, const Material* material);
+
+/// Adds a copy of `model` to `world`.
+void add_volume(shim::EngineWorld& world, const EngineVolumetricModel& model);
+
+}  // namespace sciray::ospray

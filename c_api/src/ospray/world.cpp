@@ -1,0 +1,532 @@
+// OSPRay's groups, instances and worlds, and the engine worlds built from them.
+#include "scene_common.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <string>
+#include <type_traits>
+
+namespace sciray::ospray {
+
+namespace {
+
+/// The slices of `model`: its planes coloured by its material's volume texture, times
+/// `colors` (the model's colours times kd, or kd alone), sampling the texture's volume
+/// and transfer function as currently committed.
+VolumeSlice model_slice(const GeometricModel& model, const PlaneData& data, std::vector<float> colors) {
+  const VolumetricModelObject& source = *model.volume_texture()->volume_model();
+  const TransferFunction& tf = *source.transfer_function()->transfer_function();
+  return std::visit(
+      [&](const auto& v) -> VolumeSlice {
+        if constexpr (std::is_same_v<std::decay_t<decltype(v)>, std::monostate>)
+          throw Error("volume texture: its volume has not been committed");
+        else
+          return VolumeSlice(data.planes, data.bounds, v, tf, std::move(colors));
+      },
+      source.volume()->volume());
+}
+
+}  // namespace
+
+namespace {
+
+/// Why `model`'s geometry cannot clip whatever its placement ("" where it can): what a
+/// group's commit and every world build check. (A non-uniformly scaled sphere depends
+/// on the instance and is checked at the build.)
+std::string cannot_clip(const GeometricModel& model) {
+  const Geometry& geometry = *model.geometry();
+  if (geometry.curves()) return "curve geometry cannot clip yet";
+  if (geometry.spheres() && geometry.sphere_type() != SphereType::sphere)
+    return "discs (sphere geometry of type OSP_DISC or OSP_ORIENTED_DISC) enclose nothing and cannot clip; use "
+           "OSP_SPHERE";
+  if (geometry.planes() && !geometry.planes()->bounds.empty())
+    return "planes with 'plane.bounds' are not supported as clipping geometry yet; clip with unbounded planes or a box";
+  if (geometry.isosurface_volume()) return "isosurface geometry cannot clip yet";
+  return {};
+}
+
+/// The committed models of the object array `id` of `group`, if it is set.
+std::vector<Ref<GeometricModel>> read_models(const Object& group, const Data* list, const std::string& id) {
+  std::vector<Ref<GeometricModel>> models;
+  if (!list) return models;
+  for (std::uint64_t i = 0; i < list->size(); ++i) {
+    auto* model = static_cast<GeometricModel*>(list->object(i));
+    const std::string element = group.name() + ": parameter '" + id + "' element " + std::to_string(i);
+    if (!model) throw Error(element + " is NULL");
+    if (!model->committed()) throw Error(element + " has not been committed");
+    models.emplace_back(model);
+  }
+  return models;
+}
+
+}  // namespace
+
+void Group::on_commit() {
+  // Read into locals: a commit that fails leaves the group as it was.
+  auto models = read_models(*this, get_data(*this, find("geometry"), "geometry", {OSP_GEOMETRIC_MODEL}), "geometry");
+  auto clipping = read_models(
+      *this, get_data(*this, find("clippingGeometry"), "clippingGeometry", {OSP_GEOMETRIC_MODEL}), "clippingGeometry");
+  for (std::size_t i = 0; i < clipping.size(); ++i)
+    if (const std::string why = cannot_clip(*clipping[i]); !why.empty())
+      throw Error(name() + ": parameter 'clippingGeometry' element " + std::to_string(i) + ": " + why);
+  std::vector<Ref<VolumetricModelObject>> volumes;
+  if (const Data* list = get_data(*this, find("volume"), "volume", {OSP_VOLUMETRIC_MODEL}))
+    for (std::uint64_t i = 0; i < list->size(); ++i) {
+      auto* model = static_cast<VolumetricModelObject*>(list->object(i));
+      const std::string element = name() + ": parameter 'volume' element " + std::to_string(i);
+      if (!model) throw Error(element + " is NULL");
+      if (!model->committed()) throw Error(element + " has not been committed");
+      volumes.emplace_back(model);
+    }
+  models_ = std::move(models);
+  clipping_models_ = std::move(clipping);
+  volumes_ = std::move(volumes);
+}
+
+Box3f Group::bounds() const {
+  Box3f box;
+  for (const auto& m : models_) box.extend(m->geometry()->bounds());
+  for (const auto& v : volumes_) box.extend(v->bounds());
+  return box;
+}
+
+std::uint64_t Group::geometry_version() const {
+  std::uint64_t v = version_;
+  for (const auto& m : models_) v = std::max(v, m->version());
+  return v;
+}
+
+std::uint64_t Group::version() const {
+  std::uint64_t v = geometry_version();
+  for (const auto& m : clipping_models_) v = std::max(v, m->version());
+  for (const auto& m : volumes_) v = std::max(v, m->version());
+  return v;
+}
+
+void Instance::on_commit() {
+  // Read into locals: a commit that fails leaves the instance as it was.
+  Ref<Group> group = get_object<Group>("group", OSP_GROUP, true);
+  if (!group->committed()) throw Error(name() + ": its group has not been committed");
+  Affine3f transform;
+  if (const Param* p = find("transform")) {
+    if (p->type != OSP_AFFINE3F) throw Error(name() + ": parameter 'transform' must be an affine3f, got " + type_name(p->type));
+    float m[12];
+    std::memcpy(m, p->bytes.data(), sizeof m);
+    for (float v : m)
+      if (!std::isfinite(v)) throw Error(name() + ": parameter 'transform' is not finite");
+    transform = {{m[0], m[1], m[2]}, {m[3], m[4], m[5]}, {m[6], m[7], m[8]}, {m[9], m[10], m[11]}};
+    const float det = transform.determinant();
+    if (det == 0.f || !std::isfinite(det)) throw Error(name() + ": parameter 'transform' is singular");
+  }
+  if (!group->volumes().empty() && !transform.identity())
+    throw Error(name() + ": parameter 'transform': its group has volumes, and volumes in transformed instances are "
+                         "not supported yet (place the group with the identity transform and the volume with its "
+                         "'gridOrigin' and 'gridSpacing')");
+  group_ = std::move(group);
+  transform_ = transform;
+}
+
+// The transformed box of the group's bounds: the engine's instance is the exact
+// transform of the group, so this encloses it under any (also non-uniform) transform.
+Box3f Instance::bounds() const { return transform_.transform(group_->bounds()); }
+
+std::uint64_t Instance::version() const { return std::max(version_, group_ ? group_->version() : 0); }
+
+void World::on_commit() {
+  instances_.clear();
+  lights_.clear();
+  if (const Data* list = get_data(*this, find("instance"), "instance", {OSP_INSTANCE}))
+    for (std::uint64_t i = 0; i < list->size(); ++i) {
+      auto* instance = static_cast<Instance*>(list->object(i));
+      if (!instance || !instance->committed())
+        throw Error(name() + ": parameter 'instance' element " + std::to_string(i) + " is NULL or not committed");
+      instances_.emplace_back(instance);
+    }
+  if (const Data* list = get_data(*this, find("light"), "light", {OSP_LIGHT}))
+    for (std::uint64_t i = 0; i < list->size(); ++i) {
+      auto* light = static_cast<Light*>(list->object(i));
+      if (!light || !light->committed())
+        throw Error(name() + ": parameter 'light' element " + std::to_string(i) + " is NULL or not committed");
+      lights_.emplace_back(light);
+    }
+}
+
+std::uint64_t World::version() const {
+  std::uint64_t v = version_;
+  for (const auto& i : instances_) v = std::max(v, i->version());
+  for (const auto& l : lights_) v = std::max(v, l->version());
+  return v;
+}
+
+Box3f World::bounds() const {
+  Box3f box;
+  for (const auto& i : instances_) box.extend(i->bounds());
+  return box;
+}
+
+namespace {
+
+/// `colors` (RGBA per primitive, or empty) times the material colour `kd` if any, or `kd`
+/// alone for each of `count` primitives; empty when there is neither.
+std::vector<float> tinted_colors(const PaddedVector<float>& colors, const std::optional<Vec3f>& kd,
+                                 std::size_t count) {
+  std::vector<float> out(colors.begin(), colors.end());
+  if (!kd) return out;
+  if (out.empty()) out.assign(4 * count, 1.f);
+  for (std::size_t i = 0; 4 * i < out.size(); ++i) out[4 * i] *= kd->x, out[4 * i + 1] *= kd->y, out[4 * i + 2] *= kd->z;
+  return out;
+}
+
+/// The mesh of `model`: the geometry's data shared; the model's per-face colours, if
+/// any, held by `keep_alive`.
+TriangleMesh model_mesh(const GeometricModel& model, std::vector<std::shared_ptr<const void>>& keep_alive) {
+  const std::shared_ptr<const MeshData>& data = model.geometry()->mesh();
+  TriangleMesh mesh(data);
+  if (!model.face_colors().empty()) {
+    auto colors = std::make_shared<const PaddedVector<float>>(model.face_colors());
+    keep_alive.push_back(data);
+    keep_alive.push_back(colors);
+    TriangleMesh::SharedArrays arrays = mesh.arrays();
+    arrays.face_colors = {colors->data(), colors->size() / 4, 4 * sizeof(float)};
+    mesh = TriangleMesh::shared(arrays);
+  }
+  if (const auto kd = model.material_color()) mesh.set_material_color(*kd);
+  return mesh;
+}
+
+/// The spheres of `model`. They read the geometry's arrays in place; only the colours
+/// (the model's per-sphere colours times kd, or kd alone) are new, and `keep_alive` holds
+/// them and the geometry's data.
+Spheres model_spheres(const GeometricModel& model, std::vector<std::shared_ptr<const void>>& keep_alive) {
+  const Geometry& geometry = *model.geometry();
+  const SphereData& d = *geometry.spheres();
+  keep_alive.push_back(geometry.spheres());
+  const std::size_t n = d.count();
+  Spheres::SharedArrays a;
+  a.positions = {d.positions.data(), n, 3 * sizeof(float)};
+  if (!d.radii.empty()) a.radii = {d.radii.data(), n, sizeof(float)};
+  a.radius = d.radius;
+  if (!d.normals.empty()) a.normals = {d.normals.data(), n, 3 * sizeof(float)};
+  if (!d.texcoords.empty()) a.texcoords = {d.texcoords.data(), n, 2 * sizeof(float)};
+  // Spheres have no material colour of their own: kd multiplies the colours, as a mesh
+  // shades its face colours.
+  if (!model.face_colors().empty() || model.material_color()) {
+    auto colors = std::make_shared<PaddedVector<float>>();
+    const std::vector<float> tinted = tinted_colors(model.face_colors(), model.material_color(), n);
+    colors->assign(tinted.begin(), tinted.end());
+    a.colors = {colors->data(), colors->size() / 4, 4 * sizeof(float)};
+    keep_alive.push_back(std::move(colors));
+  }
+  Spheres spheres = Spheres::shared(a);
+  spheres.set_type(geometry.sphere_type()).set_intersector(geometry.sphere_intersector());
+  return spheres;
+}
+
+/// The curves of `model`: shared, or with kd a copy whose vertex colours it multiplies.
+Curves model_curves(const GeometricModel& model) {
+  std::shared_ptr<const CurveData> data = model.geometry()->curves();
+  const auto kd = model.material_color();
+  if (!kd) return Curves(data);
+  auto copy = std::make_shared<CurveData>(*data);
+  if (copy->colors.empty()) copy->colors.assign(4 * copy->vertex_count(), 1.f);
+  for (std::size_t v = 0; 4 * v < copy->colors.size(); ++v)
+    copy->colors[4 * v] *= kd->x, copy->colors[4 * v + 1] *= kd->y, copy->colors[4 * v + 2] *= kd->z;
+  return Curves(std::shared_ptr<const CurveData>(std::move(copy)));
+}
+
+// ---- clipping geometry -------------------------------------------------------------------
+
+/// The scale of `m`'s linear part where it is a rotation (or a reflection) times a
+/// uniform scale, which maps spheres onto spheres; none where it scales non-uniformly
+/// or shears.
+std::optional<float> uniform_scale(const Affine3f& m) {
+  const Vec3f columns[3] = {m.vx, m.vy, m.vz};
+  const float s2 = (dot(m.vx, m.vx) + dot(m.vy, m.vy) + dot(m.vz, m.vz)) / 3.f;
+  const float tolerance = 1e-5f * s2;  // float rotations are orthogonal to a few ulps
+  for (int i = 0; i < 3; ++i) {
+    if (std::abs(dot(columns[i], columns[i]) - s2) > tolerance) return std::nullopt;
+    if (std::abs(dot(columns[i], columns[(i + 1) % 3])) > tolerance) return std::nullopt;
+  }
+  return std::sqrt(s2);
+}
+
+/// Whether `m`'s linear part maps every axis onto an axis (a scale, also negative, and
+/// a permutation of the axes): it then maps a box exactly onto the box around its
+/// transformed corners.
+bool maps_axes_to_axes(const Affine3f& m) {
+  const auto on_one_axis = [](const Vec3f& c) {
+    return static_cast<int>(c.x != 0.f) + static_cast<int>(c.y != 0.f) + static_cast<int>(c.z != 0.f) == 1;
+  };
+  return on_one_axis(m.vx) && on_one_axis(m.vy) && on_one_axis(m.vz);
+}
+
+/// `box` placed by `m` as a closed mesh of 12 triangles: exact under any transform.
+std::shared_ptr<const MeshData> box_mesh(const Box3f& box, const Affine3f& m) {
+  auto mesh = std::make_shared<MeshData>();
+  for (int k = 0; k < 8; ++k) {
+    const Vec3f p = m.point({k & 1 ? box.upper.x : box.lower.x, k & 2 ? box.upper.y : box.lower.y,
+                             k & 4 ? box.upper.z : box.lower.z});
+    mesh->positions.insert(mesh->positions.end(), {p.x, p.y, p.z});
+  }
+  mesh->indices = {0, 2, 1, 1, 2, 3, 4, 5, 6, 5, 7, 6, 0, 1, 4, 1, 5, 4,
+                   2, 6, 3, 3, 6, 7, 0, 4, 2, 2, 4, 6, 1, 3, 5, 3, 7, 5};
+  return mesh;
+}
+
+/// The positions and faces of `mesh` placed by `m` (the geometry's own data where `m`
+/// is the identity).
+std::shared_ptr<const MeshData> placed_mesh(const std::shared_ptr<const MeshData>& mesh, const Affine3f& m) {
+  if (m.identity()) return mesh;
+  auto placed = std::make_shared<MeshData>();
+  placed->vertices_per_face = mesh->vertices_per_face;
+  placed->indices = mesh->indices;
+  placed->positions.reserve(mesh->positions.size());
+  for (std::size_t v = 0; v < mesh->vertex_count(); ++v) {
+    const float* x = &mesh->positions[3 * v];
+    const Vec3f p = m.point({x[0], x[1], x[2]});
+    placed->positions.insert(placed->positions.end(), {p.x, p.y, p.z});
+  }
+  return placed;
+}
+
+/// An edge shared by an odd number of faces, its vertices welded by position (so that a
+/// mesh with vertices per face is closed too). A mesh without one is closed, and the
+/// parity of a ray's crossings tells its inside from its outside.
+struct OpenEdge {
+  std::uint32_t a, b;
+  std::size_t faces;
+};
+
+std::optional<OpenEdge> open_edge(const MeshData& mesh) {
+  const std::size_t n = mesh.vertex_count();
+  const auto position = [&](std::uint32_t v) {
+    return std::array<float, 3>{mesh.positions[3 * v], mesh.positions[3 * v + 1], mesh.positions[3 * v + 2]};
+  };
+  std::vector<std::uint32_t> order(n);
+  for (std::size_t v = 0; v < n; ++v) order[v] = static_cast<std::uint32_t>(v);
+  std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return position(a) < position(b); });
+  std::vector<std::uint32_t> weld(n);  // the lowest-sorted vertex at the same position
+  for (std::size_t i = 0; i < n; ++i)
+    weld[order[i]] = i > 0 && position(order[i]) == position(order[i - 1]) ? weld[order[i - 1]] : order[i];
+
+  std::vector<std::uint64_t> edges;
+  const unsigned k = mesh.vertices_per_face;
+  edges.reserve(mesh.indices.size());
+  for (std::size_t f = 0; f < mesh.face_count(); ++f)
+    for (unsigned c = 0; c < k; ++c) {
+      std::uint32_t a = weld[mesh.indices[f * k + c]], b = weld[mesh.indices[f * k + (c + 1) % k]];
+      if (a == b) continue;  // a triangle in a quad mesh repeats its last vertex
+      if (a > b) std::swap(a, b);
+      edges.push_back(std::uint64_t{a} << 32 | b);
+    }
+  std::sort(edges.begin(), edges.end());
+  for (std::size_t i = 0, j = 0; i < edges.size(); i = j) {
+    while (j < edges.size() && edges[j] == edges[i]) ++j;
+    if ((j - i) % 2 != 0) return OpenEdge{static_cast<std::uint32_t>(edges[i] >> 32),
+                                          static_cast<std::uint32_t>(edges[i] & 0xffffffffu), j - i};
+  }
+  return std::nullopt;
+}
+
+/// Adds the geometry of the clipping model `model`, placed by `m`, to `clipping`.
+void add_clipper(Clipping& clipping, const GeometricModel& model, const Affine3f& m) {
+  if (const std::string why = cannot_clip(model); !why.empty()) throw Error(why);
+  const Geometry& geometry = *model.geometry();
+  const bool invert = model.invert_normals();
+  if (const auto& spheres = geometry.spheres()) {
+    const std::optional<float> scale = uniform_scale(m);
+    if (!scale)
+      throw Error("its instance's transform scales non-uniformly (a sphere becomes an ellipsoid), which clipping "
+                  "spheres do not support yet");
+    for (std::size_t i = 0; i < spheres->count(); ++i) {
+      const float* c = &spheres->positions[3 * i];
+      const float radius = spheres->radii.empty() ? spheres->radius : spheres->radii[i];
+      clipping.add_sphere(m.point({c[0], c[1], c[2]}), *scale * radius, invert);
+    }
+  } else if (const auto& boxes = geometry.boxes()) {
+    const bool analytic = maps_axes_to_axes(m);
+    for (const Box3f& box : boxes->boxes)
+      if (analytic)
+        clipping.add_box(m.transform(box), invert);
+      else
+        clipping.add_mesh(box_mesh(box, m), invert);  // rotated or sheared: exact as a mesh
+  } else if (const auto& planes = geometry.planes()) {
+    // The cofactor matrix is the inverse transpose times the determinant: a mirroring
+    // transform would turn the normal around, and with it the side that is clipped.
+    const float side = m.determinant() < 0.f ? -1.f : 1.f;
+    for (const Planes::Plane& plane : planes->planes) {
+      const Vec3f n{plane.a, plane.b, plane.c};
+      const Vec3f on_plane = n * (-plane.d / dot(n, n));
+      const Vec3f normal = normalize(m.normal(n) * side);
+      clipping.add_plane(normal, -dot(normal, m.point(on_plane)), invert);
+    }
+  } else {
+    const std::shared_ptr<const MeshData>& mesh = geometry.mesh();
+    if (const auto edge = open_edge(*mesh))
+      throw Error("only a closed mesh can clip, but the edge between vertices " + std::to_string(edge->a) + " and " +
+                  std::to_string(edge->b) + " belongs to " + std::to_string(edge->faces) + " face" +
+                  (edge->faces == 1 ? "" : "s"));
+    clipping.add_mesh(placed_mesh(mesh, m), invert);
+  }
+}
+
+}  // namespace
+
+BuiltWorld::Origin BuiltWorld::origin(std::int32_t inst_id, std::int32_t geom_id) const {
+  // The C API places everything through instances: a world has no direct geometry.
+  const std::size_t first_instance = world->geometry_count();
+  if (inst_id < 0 || static_cast<std::size_t>(inst_id) < first_instance ||
+      static_cast<std::size_t>(inst_id) - first_instance >= instances.size())
+    throw Error("world: a hit reports instance id " + std::to_string(inst_id) + ", which the world does not have");
+  const PlacedInstance& placed = instances[static_cast<std::size_t>(inst_id) - first_instance];
+  const BuiltGroup& group = *groups[placed.group];
+  if (geom_id < 0 || static_cast<std::size_t>(geom_id) >= group.models.size())
+    throw Error("world: a hit reports geometry id " + std::to_string(geom_id) + ", which its group does not have");
+  return {placed.instance.get(), group.models[static_cast<std::size_t>(geom_id)].get()};
+}
+
+std::shared_ptr<const BuiltGroup> World::build_group(Group& group, const shim::IsaKernels& kernels) {
+  auto built = std::make_shared<BuiltGroup>();
+  built->device = device_;
+  built->source = &group;
+  built->version = group.geometry_version();  // its clipping models are the world's
+  built->kernels = &kernels;
+  if (group.models().empty()) return built;
+  built->group = std::make_shared<shim::EngineWorld::GroupType>(*device_);
+  for (std::size_t k = 0; k < group.models().size(); ++k) {
+    const auto& model = group.models()[k];
+    Geometry& geometry = *model->geometry();
+    // The material may have been recommitted (with a texture or colour) since the model.
+    if (const std::string why = cannot_colour(geometry, model->material()); !why.empty())
+      throw Error("parameter 'geometry' element " + std::to_string(k) + " (" + model->name() + " of " +
+                  geometry.name() + "): " + why);
+    // Geometries bake their material's base colour into their colours, except
+    // isosurfaces, which have none.
+    const std::uint32_t material = material_index(model->material(), !geometry.isosurface());
+    if (geometry.spheres()) {
+      built->group->add(model_spheres(*model, built->keep_alive), material);
+    } else if (geometry.curves()) {
+      built->group->add(model_curves(*model), material);
+    } else if (geometry.boxes()) {
+      // Boxes and planes own their primitives with the model's colours.
+      const auto& data = *geometry.boxes();
+      built->group->add(
+          Boxes(data.boxes, tinted_colors(model->face_colors(), model->material_color(), data.boxes.size())), material);
+    } else if (geometry.planes()) {
+      const auto& data = *geometry.planes();
+      auto colors = tinted_colors(model->face_colors(), model->material_color(), data.planes.size());
+      if (model->volume_texture())
+        built->group->add(model_slice(*model, data, std::move(colors)), material);  // planes coloured by a volume
+      else
+        built->group->add(Planes(data.planes, data.bounds, std::move(colors)), material);
+    } else if (const auto isosurface = geometry.isosurface()) {
+      built->group->add(*isosurface, material);  // a copy: the volume is shared
+    } else {
+      built->group->add(model_mesh(*model, built->keep_alive), material);
+    }
+    built->models.push_back(model);
+  }
+  // Committed with the world, through the kernels (sciray's intersectors are per ISA).
+  return built;
+}
+
+std::uint32_t World::material_index(Material* material, bool baked) {
+  if (!material) return no_material;
+  for (std::size_t i = 0; i < materials_.size(); ++i)
+    if (materials_[i].material.get() == material && materials_[i].baked == baked) return static_cast<std::uint32_t>(i);
+  materials_.push_back({material, baked});
+  return static_cast<std::uint32_t>(materials_.size() - 1);
+}
+
+std::shared_ptr<const BuiltWorld> World::built(const shim::IsaKernels& kernels, BuildLog& log) {
+  std::lock_guard lock(build_mutex_);
+  const std::uint64_t current = version();
+  if (built_ && built_->version == current && built_->kernels == &kernels) return built_;
+
+  if (!device_) device_ = std::make_shared<accel::Device>();
+  auto built = std::make_shared<BuiltWorld>();
+  built->device = device_;
+  built->world = std::make_unique<shim::EngineWorld>(*built->device);
+  built->kernels = &kernels;
+  std::map<const Group*, std::size_t> group_index;  // this build's groups, by OSPRay group
+  std::size_t reused = 0;
+  VolumeBuildStats volumes;
+  for (std::size_t i = 0; i < instances_.size(); ++i) {
+    const auto& instance = instances_[i];
+    Group* group = instance->group();
+    // The engine places volumes directly in the world: only where the instance does not
+    // move them. (The group may have gained volumes after the instance's commit.)
+    if (!group->volumes().empty() && !instance->transform().identity())
+      throw Error(name() + ": instance " + std::to_string(i) +
+                  " places a group with volumes by a transform other than the identity: volumes in transformed "
+                  "instances are not supported yet");
+    for (const auto& model : group->volumes()) add_volume(*built->world, model->engine_model(volumes));
+    auto [at, added] = group_index.try_emplace(group, built->groups.size());
+    if (added) {
+      const auto cached = group_cache_.find(group);
+      if (cached != group_cache_.end() && cached->second->version == group->geometry_version() &&
+          cached->second->kernels == &kernels) {
+        built->groups.push_back(cached->second);  // its BVH carries over as it is
+        ++reused;
+      } else {
+        try {
+          built->groups.push_back(build_group(*group, kernels));
+        } catch (const Error& e) {
+          throw Error(name() + ": the group of instance " + std::to_string(i) + ", " + e.what());
+        }
+      }
+    }
+    const BuiltGroup& placed = *built->groups[at->second];
+    if (!placed.group) continue;  // no geometry: nothing to place
+    built->world->add_instance(placed.group, instance->transform());
+    built->instances.push_back({instance, at->second});
+  }
+  // Every instance's clipping geometry, also of groups with nothing to render, clips the
+  // whole world.
+  built->world->set_clipping(build_clipping());
+  // Through the device's kernels: builds the new groups (spheres register sciray's
+  // intersector compiled for its ISA), then the top-level BVH over the instances.
+  kernels.commit(*built->world);
+
+  for (const auto& light : lights_) built->lights.push_back(light->light());
+  for (const MaterialEntry& entry : materials_)
+    built->materials.push_back(entry.baked ? entry.material->without_base_color() : entry.material->material());
+  // Only a successful build replaces the cache: groups no instance uses any more go.
+  group_cache_.clear();
+  for (const auto& [group, index] : group_index) group_cache_.emplace(group, built->groups[index]);
+  built->version = current;
+  built_ = built;
+
+  std::string summary = "world: built with " + std::to_string(instances_.size()) + " instances of " +
+                        std::to_string(built->groups.size()) + " groups (" +
+                        std::to_string(built->groups.size() - reused) + " built, " + std::to_string(reused) +
+                        " reused)";
+  if (volumes.volumes)
+    summary += ", " + std::to_string(volumes.volumes) + " volumes (" + std::to_string(volumes.macrocells_built) +
+               " rebuilt for a recommitted volume, " + std::to_string(volumes.transfer_functions) +
+               " given a recommitted transfer function without rebuilding their macrocells)";
+  // The device's total: a previous build a frame still holds counts too.
+  if (log.want_memory) summary += ", engine memory " + std::to_string(built->world->memory_bytes()) + " bytes";
+  log.debug.push_back(std::move(summary));
+  return built_;
+}
+
+std::shared_ptr<Clipping> World::build_clipping() const {
+  auto clipping = std::make_shared<Clipping>();
+  for (std::size_t i = 0; i < instances_.size(); ++i) {
+    const Instance& instance = *instances_[i];
+    const auto& models = instance.group()->clipping_models();
+    for (std::size_t k = 0; k < models.size(); ++k) {
+      try {
+        add_clipper(*clipping, *models[k], instance.transform());
+      } catch (const Error& e) {
+        throw Error(name() + ": the group of instance " + std::to_string(i) + ", parameter 'clippingGeometry' " +
+                    "element " + std::to_string(k) + " (" + models[k]->geometry()->name() + "): " + e.what());
+      }
+    }
+  }
+  return clipping->empty() ? nullptr : clipping;
+}
+
+}  // namespace sciray::ospray
