@@ -2,11 +2,13 @@
 // image operations and limits, through the scalar path.
 #include <catch2/catch.hpp>
 
+#include <array>
 #include <cmath>
 #include <limits>
 #include <numbers>
 #include <random>
 #include <tuple>
+#include <vector>
 
 #include <tbb/task_arena.h>
 
@@ -284,50 +286,71 @@ TEST_CASE("frame buffer sizes are checked", "[frame][errors]") {
   CHECK(FrameBuffer(33, 17).tile_count() == 3 * 2);
 }
 
-TEST_CASE("pixel filters: offsets distributed as the filter, the centre for u = 1/2", "[frame][filter]") {
+TEST_CASE("pixel filters: offsets distributed as OSPRay's filter tables, the centre for (1/2, 1/2)",
+          "[frame][filter]") {
   CHECK(FilterSampler::of(PixelFilter::point).sample(0.1f, 0.9f).x == 0.f);
   CHECK(FilterSampler::of(PixelFilter::box).sample(0.1f, 0.9f).x == Approx(-0.4f));
   CHECK(FilterSampler::of(PixelFilter::box).sample(0.1f, 0.9f).y == Approx(0.4f));
-  for (PixelFilter filter :
-       {PixelFilter::box, PixelFilter::gauss, PixelFilter::mitchell, PixelFilter::blackman_harris}) {
+  for (PixelFilter filter : {PixelFilter::gauss, PixelFilter::mitchell, PixelFilter::blackman_harris}) {
     INFO("filter " << static_cast<int>(filter));
     const FilterSampler& sampler = FilterSampler::of(filter);
     const float radius = filter_radius(filter);
-    CHECK(sampler.sample(0.5f, 0.5f).x == 0.f);
-    CHECK(sampler.sample(0.5f, 0.5f).y == 0.f);
-    using F = simd::Float<xsimd::sse2>;
-    F packet_x, packet_y;
-    sampler.sample<xsimd::sse2>(F{0.f, 0.2f, 0.7f, 0.999f}, F{0.5f, 0.01f, 0.3f, 1.f}, packet_x, packet_y);
-    CHECK(simd::lane(packet_x, 2) == sampler.sample(0.7f, 0.3f).x);
-    CHECK(simd::lane(packet_y, 3) == sampler.sample(0.999f, 1.f).y);
-    // A histogram of 2^16 stratified draws in bins of 1/16 pixel against the integral
-    // of max(profile, 0) over each bin: within 1% of all the mass in total.
-    const int bins = static_cast<int>(std::lround(2.f * radius * 16.f));
-    std::vector<double> histogram(static_cast<std::size_t>(bins), 0.0), expected(histogram.size(), 0.0);
-    constexpr int draws = 1 << 16;
-    for (int k = 0; k < draws; ++k) {
-      const float u = (static_cast<float>(k) + 0.5f) / draws;
-      const float x = sampler.sample(u, 0.5f).x;
-      REQUIRE(std::abs(x) <= radius);
-      CHECK(sampler.sample(1.f - u, 0.5f).x == Approx(-x).margin(1e-5));
-      const int bin = std::min(bins - 1, static_cast<int>((x + radius) * 16.f));
-      histogram[static_cast<std::size_t>(bin)] += 1.0 / draws;
-    }
+    CHECK(sampler.sample(0.5f, 0.5f).x == Approx(0.f).margin(1e-5));
+    CHECK(sampler.sample(0.5f, 0.5f).y == Approx(0.f).margin(1e-5));
+    // A 2D histogram of stratified draws over the table's own bins (5 per pixel) holds
+    // each bin's share of max(profile, 0) at the bin centre: what OSPRay samples.
+    const int n = static_cast<int>(std::ceil(2.f * radius)) * 5;
+    const float bin = 2.f * radius / static_cast<float>(n);
+    std::vector<double> histogram(static_cast<std::size_t>(n * n), 0.0), expected(histogram.size(), 0.0);
     double total = 0.0;
-    for (int b = 0; b < bins; ++b)
-      for (int s = 0; s < 64; ++s) {
-        const float x = -radius + (static_cast<float>(b) + (static_cast<float>(s) + 0.5f) / 64.f) / 16.f;
-        const double w = std::max(0.f, filter_profile(filter, x));
-        expected[static_cast<std::size_t>(b)] += w, total += w;
+    for (int y = 0; y < n; ++y)
+      for (int x = 0; x < n; ++x) {
+        const float cx = -radius + (static_cast<float>(x) + 0.5f) * bin, cy = -radius + (static_cast<float>(y) + 0.5f) * bin;
+        const double w = std::max(0.f, filter_profile(filter, std::sqrt(cx * cx + cy * cy)));
+        expected[static_cast<std::size_t>(y * n + x)] = w, total += w;
+      }
+    constexpr int side = 512;
+    for (int j = 0; j < side; ++j)
+      for (int i = 0; i < side; ++i) {
+        const FilterOffset o = sampler.sample((static_cast<float>(i) + 0.5f) / side, (static_cast<float>(j) + 0.5f) / side);
+        REQUIRE(std::abs(o.x) <= radius);
+        REQUIRE(std::abs(o.y) <= radius);
+        const int bx = std::min(n - 1, static_cast<int>((o.x + radius) / bin));
+        const int by = std::min(n - 1, static_cast<int>((o.y + radius) / bin));
+        histogram[static_cast<std::size_t>(by * n + bx)] += 1.0 / (side * side);
       }
     double l1 = 0.0;
-    for (std::size_t b = 0; b < histogram.size(); ++b) l1 += std::abs(histogram[b] - expected[b] / total);
+    for (std::size_t k = 0; k < histogram.size(); ++k) l1 += std::abs(histogram[k] - expected[k] / total);
     CHECK(l1 < 0.01);
   }
+  // OSPRay's first sample of a Gaussian-filtered pixel: u = 0 is the table's left edge.
+  CHECK(FilterSampler::of(PixelFilter::gauss).sample(0.f, 1.f / 6.f).x == Approx(-1.5f));
   CHECK(filter_profile(PixelFilter::mitchell, 1.5f) < 0.f);  // the lobe the sampler clips
-  CHECK(filter_profile(PixelFilter::gauss, 1.5f) == Approx(0.f).margin(1e-7));
   CHECK(filter_profile(PixelFilter::blackman_harris, 0.f) == Approx(1.f));
   CHECK_THROWS_WITH(pixel_filter_from_int(5), Catch::Contains("'pixelFilter'"));
+}
+
+TEST_CASE("pixel sample points: OSPRay's Halton points, the same in every pixel", "[frame][filter]") {
+  const auto at = [](std::uint32_t n) { return pixel_sample_point(n); };
+  CHECK(at(0)[0] == 0.f);
+  CHECK(at(0)[1] == Approx(1.f / 6.f));
+  CHECK(at(1)[0] == 0.5f);
+  CHECK(at(1)[1] == Approx(0.5f));  // 1/3 rotated by 1/6: the centre
+  CHECK(at(2)[0] == 0.25f);
+  CHECK(at(2)[1] == Approx(5.f / 6.f));
+  CHECK(at(3)[0] == 0.75f);
+  CHECK(at(3)[1] == Approx(1.f / 9.f + 1.f / 6.f));
+  // Stratified: the first 6^4 points put 6^4 / 36 in each cell of a 6 x 6 grid.
+  std::array<int, 36> cells{};
+  for (std::uint32_t n = 0; n < 1296; ++n) {
+    const auto p = at(n);
+    REQUIRE(p[0] >= 0.f);
+    REQUIRE(p[0] < 1.f);
+    REQUIRE(p[1] >= 0.f);
+    REQUIRE(p[1] < 1.f);
+    ++cells[static_cast<std::size_t>(std::min(5, static_cast<int>(p[1] * 6.f)) * 6 + std::min(5, static_cast<int>(p[0] * 6.f)))];
+  }
+  for (int c : cells) CHECK(std::abs(c - 36) <= 4);
 }
 
 namespace {

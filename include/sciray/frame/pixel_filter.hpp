@@ -5,23 +5,27 @@
 // samples is its filtered value. No per-sample weights, no splatting into neighbours:
 // accumulation, the variance estimate and adaptive tiles stay per pixel.
 //
-// The filters are separable, profile(x) * profile(y), with OSPRay's widths:
+// Sampled as OSPRay samples them, so that images agree with OSPRay's sample for sample:
+// the filter is tabulated at the centres of 5 bins per pixel over its width (2D, radial)
+// and drawn from that piecewise-constant table, a row by v, then a column in it by u.
 //   point           every sample at the pixel centre (aliased)
 //   box             uniform over the pixel (width 1)
-//   gauss           Gaussian of standard deviation 0.5 px, truncated smoothly at 1.5 px
-//                   (its value there subtracted) — OSPRay's default
+//   gauss           Gaussian of standard deviation 0.5 px over a width of 3 px — OSPRay's default
 //   mitchell        Mitchell-Netravali with B = C = 1/3 over 4 px; a density cannot be
 //                   negative, so its negative lobes are clipped (sampled as max(f, 0))
 //   blackman_harris 4-term Blackman-Harris window over 3 px
+//
+// The sample points themselves (pixel_sample_point) are OSPRay's too: sample n of a
+// frame's accumulation lies at the same place in every pixel.
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <numbers>
 #include <string>
 #include <vector>
 
 #include "sciray/error.hpp"
-#include "sciray/simd/packet.hpp"
 
 namespace sciray {
 
@@ -47,33 +51,30 @@ inline float filter_radius(PixelFilter filter) {
   return 0.f;
 }
 
-/// The 1D profile of `filter` at `x` pixels from the centre (unnormalized; 0 outside
-/// the radius; Mitchell's negative lobes included). Not defined for `point`.
-inline float filter_profile(PixelFilter filter, float x) {
-  const float r = filter_radius(filter);
-  const float ax = std::abs(x);
-  if (ax > r) return 0.f;
+/// The radial profile of `filter` at `r` pixels from the centre, as OSPRay tabulates it
+/// (unnormalized; Mitchell's negative lobes included). Not defined for point and box.
+inline float filter_profile(PixelFilter filter, float r) {
+  const float width = 2.f * filter_radius(filter);
   switch (filter) {
-    case PixelFilter::point: return 0.f;
-    case PixelFilter::box: return 1.f;
     case PixelFilter::gauss: {
-      constexpr float inv_two_sigma2 = 1.f / (2.f * 0.5f * 0.5f);
-      return std::exp(-x * x * inv_two_sigma2) - std::exp(-r * r * inv_two_sigma2);
+      constexpr float sigma = 0.5f;
+      return std::exp(-0.5f * r * r / (sigma * sigma));
     }
     case PixelFilter::mitchell: {
       constexpr float b = 1.f / 3.f, c = 1.f / 3.f;
-      const float x2 = ax * ax, x3 = x2 * ax;
-      if (ax < 1.f)
-        return ((12.f - 9.f * b - 6.f * c) * x3 + (-18.f + 12.f * b + 6.f * c) * x2 + (6.f - 2.f * b)) / 6.f;
-      return ((-b - 6.f * c) * x3 + (6.f * b + 30.f * c) * x2 + (-12.f * b - 48.f * c) * ax + (8.f * b + 24.f * c)) /
-             6.f;
+      const float x = 4.f * r / width, x2 = x * x, x3 = x2 * x;
+      if (x < 1.f) return ((12.f - 9.f * b - 6.f * c) * x3 + (-18.f + 12.f * b + 6.f * c) * x2 + (6.f - 2.f * b)) / 6.f;
+      if (x < 2.f)
+        return ((-b - 6.f * c) * x3 + (6.f * b + 30.f * c) * x2 + (-12.f * b - 48.f * c) * x + (8.f * b + 24.f * c)) /
+               6.f;
+      return 0.f;
     }
     case PixelFilter::blackman_harris: {
-      const float t = 2.f * std::numbers::pi_v<float> * (x / (2.f * r) + 0.5f);
+      const float t = 2.f * std::numbers::pi_v<float> * (r + 0.5f * width) / width;
       return 0.35875f - 0.48829f * std::cos(t) + 0.14128f * std::cos(2.f * t) - 0.01168f * std::cos(3.f * t);
     }
+    default: return 0.f;
   }
-  return 0.f;
 }
 
 /// Offset from the pixel centre, in pixels.
@@ -81,33 +82,26 @@ struct FilterOffset {
   float x, y;
 };
 
-/// Maps uniform [0,1)^2 samples to offsets distributed as the filter, through a table
-/// of the inverse of the profile's cumulative distribution. The table is symmetric, so
-/// u = 0.5 maps exactly to the centre and low-discrepancy inputs stay stratified.
+/// Maps uniform [0,1)^2 samples to offsets distributed as the filter, through OSPRay's
+/// table: ceil(width) * 5 bins a side, each holding max(profile, 0) at its centre.
 class FilterSampler {
 public:
   explicit FilterSampler(PixelFilter filter) : filter_(filter) {
     if (filter == PixelFilter::point || filter == PixelFilter::box) return;
-    // Cumulative distribution of max(profile, 0) over [-r, r] by the midpoint rule on a
-    // fine grid; the density is piecewise constant per cell, so its inverse is
-    // piecewise linear and exact at the cell boundaries.
-    constexpr int cells = 8192;
-    const float r = filter_radius(filter);
-    const double cell = 2.0 * r / cells;
-    std::vector<double> cdf(cells + 1, 0.0);
-    for (int i = 0; i < cells; ++i) {
-      const double x = -r + (i + 0.5) * cell;
-      cdf[i + 1] = cdf[i] + std::max(0.0, static_cast<double>(filter_profile(filter, static_cast<float>(x))));
+    width_ = 2.f * filter_radius(filter);
+    bins_ = static_cast<int>(std::ceil(width_)) * bins_per_pixel;
+    const auto n = static_cast<std::size_t>(bins_);
+    cdf_x_.resize(n * n);
+    cdf_y_.resize(n);
+    for (std::size_t y = 0; y < n; ++y) {
+      const float fy = ((static_cast<float>(y) + 0.5f) / static_cast<float>(n) - 0.5f) * width_;
+      for (std::size_t x = 0; x < n; ++x) {
+        const float fx = ((static_cast<float>(x) + 0.5f) / static_cast<float>(n) - 0.5f) * width_;
+        cdf_x_[y * n + x] = std::max(0.f, filter_profile(filter, std::sqrt(fx * fx + fy * fy)));
+      }
+      cdf_y_[y] = to_cdf(&cdf_x_[y * n], n);
     }
-    int i = 0;
-    for (int k = 0; k <= table_size / 2; ++k) {
-      const double target = cdf[cells] * k / table_size;
-      while (i < cells - 1 && cdf[i + 1] < target) ++i;
-      const double in_cell = cdf[i + 1] > cdf[i] ? (target - cdf[i]) / (cdf[i + 1] - cdf[i]) : 0.0;
-      inverse_[k] = static_cast<float>(-r + (i + std::clamp(in_cell, 0.0, 1.0)) * cell);
-    }
-    inverse_[table_size / 2] = 0.f;
-    for (int k = 0; k < table_size / 2; ++k) inverse_[table_size - k] = -inverse_[k];
+    to_cdf(cdf_y_.data(), n);
   }
 
   PixelFilter filter() const { return filter_; }
@@ -116,18 +110,13 @@ public:
     switch (filter_) {
       case PixelFilter::point: return {0.f, 0.f};
       case PixelFilter::box: return {u - 0.5f, v - 0.5f};
-      default: return {invert(u), invert(v)};
-    }
-  }
-  /// sample() for a packet of (u, v): offsets in `x`, `y`.
-  template <class Arch>
-  void sample(const simd::Float<Arch>& u, const simd::Float<Arch>& v, simd::Float<Arch>& x,
-              simd::Float<Arch>& y) const {
-    using F = simd::Float<Arch>;
-    switch (filter_) {
-      case PixelFilter::point: x = y = F(0.f); return;
-      case PixelFilter::box: x = u - F(0.5f), y = v - F(0.5f); return;
-      default: x = invert<Arch>(u), y = invert<Arch>(v);
+      default: {
+        const auto n = static_cast<std::size_t>(bins_);
+        const float row = invert(cdf_y_.data(), n, v);
+        const float column = invert(&cdf_x_[static_cast<std::size_t>(row) * n], n, u);
+        const float inv_bins = 1.f / static_cast<float>(bins_);
+        return {(column * inv_bins - 0.5f) * width_, (row * inv_bins - 0.5f) * width_};
+      }
     }
   }
 
@@ -140,21 +129,54 @@ public:
   }
 
 private:
-  static constexpr int table_size = 1024;  // even, so that u = 0.5 is an entry
+  static constexpr int bins_per_pixel = 5;
 
-  float invert(float u) const { return invert<simd::scalar>(u); }
-  template <class Arch>
-  simd::Float<Arch> invert(const simd::Float<Arch>& u) const {
-    using F = simd::Float<Arch>;
-    const F t = simd::min(simd::max(u, F(0.f)), F(1.f)) * F(static_cast<float>(table_size));
-    const simd::Int<Arch> k = simd::to_int(simd::min(t, F(static_cast<float>(table_size - 1))));
-    const F f = t - simd::to_float(k);
-    const F below = simd::gather<Arch>(inverse_.data(), k), above = simd::gather<Arch>(inverse_.data() + 1, k);
-    return below + f * (above - below);
+  /// Turns `n` weights into their normalized running sum (uniform if all are 0); returns
+  /// their sum.
+  static float to_cdf(float* values, std::size_t n) {
+    float sum = 0.f;
+    for (std::size_t i = 0; i < n; ++i) sum += values[i], values[i] = sum;
+    for (std::size_t i = 0; i < n; ++i)
+      values[i] = sum > 0.f ? values[i] / sum : static_cast<float>(i + 1) / static_cast<float>(n);
+    return sum;
+  }
+
+  /// The bin index plus the position within it where the cdf reaches s.
+  static float invert(const float* cdf, std::size_t n, float s) {
+    const std::size_t i = std::min<std::size_t>(
+        static_cast<std::size_t>(std::upper_bound(cdf, cdf + n, s) - cdf), n - 1);
+    const float before = i == 0 ? 0.f : cdf[i - 1];
+    const float p = cdf[i] - before;
+    return static_cast<float>(i) + (p > 0.f ? (s - before) / p : 0.f);
   }
 
   PixelFilter filter_;
-  std::array<float, table_size + 1> inverse_{};
+  float width_ = 0.f;
+  int bins_ = 0;
+  std::vector<float> cdf_x_;  ///< per row, the cumulative distribution over its columns
+  std::vector<float> cdf_y_;  ///< the cumulative distribution over the rows
 };
+
+/// Where sample `n` of a pixel lies in [0,1)^2, before the filter maps it to an offset:
+/// OSPRay's Halton points (base 2; base 3 rotated by 1/6), the same in every pixel.
+inline std::array<float, 2> pixel_sample_point(std::uint32_t n) {
+  std::uint32_t reversed = (n << 16) | (n >> 16);
+  reversed = ((reversed & 0x00ff00ffu) << 8) | ((reversed & 0xff00ff00u) >> 8);
+  reversed = ((reversed & 0x0f0f0f0fu) << 4) | ((reversed & 0xf0f0f0f0u) >> 4);
+  reversed = ((reversed & 0x33333333u) << 2) | ((reversed & 0xccccccccu) >> 2);
+  reversed = ((reversed & 0x55555555u) << 1) | ((reversed & 0xaaaaaaaau) >> 1);
+  const float u = static_cast<float>(reversed >> 9) * 0x1p-23f;
+  // The base-3 radical inverse of n's 20 lowest digits, four groups of five at a time.
+  const auto reverse5 = [](std::uint32_t digits) {
+    std::uint32_t r = 0;
+    for (int k = 0; k < 5; ++k) r = r * 3 + digits % 3, digits /= 3;
+    return r;
+  };
+  const std::uint32_t ternary = reverse5(n % 243u) * 14348907u + reverse5((n / 243u) % 243u) * 59049u +
+                                reverse5((n / 59049u) % 243u) * 243u + reverse5((n / 14348907u) % 243u);
+  float v = static_cast<float>(ternary) * (1.f / static_cast<float>(3486784401u)) + 1.f / 6.f;
+  if (v >= 1.f) v -= 1.f;
+  return {u, v};
+}
 
 }  // namespace sciray

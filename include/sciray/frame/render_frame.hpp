@@ -83,8 +83,8 @@ concept PreparedCamera = requires(const C& camera, const simd::Float<Arch>& s, c
 
 /// Renders one frame of `renderer` into `fb`, accumulating if the frame buffer does:
 /// `settings.pixel_samples` samples per pixel (sample index frame * pixel_samples + s,
-/// the frame counted per tile), each at an offset drawn from the pixel filter with the
-/// pixel's camera_sample, which also gives the lens position. Colour, alpha, normal and
+/// the frame counted per tile), each at the offset the pixel filter gives OSPRay's
+/// sample point of that index, and at the lens position of the pixel's camera sequence. Colour, alpha, normal and
 /// albedo are averaged over the frame's samples; depth and ids come from the nearest
 /// hit among them. Tiles the frame buffer reports converged below
 /// `settings.variance_threshold` are skipped. Returns the number of tiles rendered.
@@ -121,9 +121,8 @@ std::uint32_t render_frame(const Renderer& renderer, const CameraT& camera, Fram
   alignas(64) std::int32_t lane_offset[W];
   for (int i = 0; i < W; ++i) lane_offset[i] = (i / S::width) * width + i % S::width;
   const simd::Int<Arch> lane_offsets = simd::load<Arch>(lane_offset);
-  // Sample 0 of every pixel lies at the centre, film (0.5, 0.5), which every filter maps
-  // to offset 0 exactly; only the lens (if the camera has one) needs its per-pixel
-  // sequence then.
+  // The pixel offsets are the same in every pixel (OSPRay's sample points): only the lens
+  // (if the camera has one) needs the per-pixel sequence.
   bool uses_lens = true;
   if constexpr (requires { camera.uses_lens(); }) uses_lens = camera.uses_lens();
 
@@ -135,7 +134,7 @@ std::uint32_t render_frame(const Renderer& renderer, const CameraT& camera, Fram
       if (!fb.tile_converged(tile, settings.variance_threshold)) {
         const std::uint32_t tile_frames = fb.tile_frames(tile);
         const std::uint32_t first_sample = tile_frames * samples;
-        const bool needs_sequence = uses_lens || first_sample + samples > 1;
+        const bool needs_sequence = uses_lens;
         const int tile_x0 = (tile % fb.tiles_x()) * tile_size, tile_y0 = (tile / fb.tiles_x()) * tile_size;
         for (int y0 = tile_y0; y0 < std::min(tile_y0 + tile_size, height); y0 += S::height) {
           for (int x0 = tile_x0; x0 < std::min(tile_x0 + tile_size, width); x0 += S::width) {
@@ -164,14 +163,10 @@ std::uint32_t render_frame(const Renderer& renderer, const CameraT& camera, Fram
               const std::uint32_t sample_index = first_sample + s;
               CameraSamples<F> cs{F(0.5f), F(0.5f), F(0.5f), F(0.5f)};
               if (sequence) cs = (*sequence)(sample_index);
-              F screen_x, screen_y;
-              if (sample_index == 0) {
-                screen_x = pixel_x * F(inv_width), screen_y = pixel_y * F(inv_height);
-              } else {
-                F offset_x, offset_y;
-                filter.template sample<Arch>(cs.film_x, cs.film_y, offset_x, offset_y);
-                screen_x = (pixel_x + offset_x) * F(inv_width), screen_y = (pixel_y + offset_y) * F(inv_height);
-              }
+              const auto [u, v] = pixel_sample_point(sample_index);
+              const FilterOffset offset = filter.sample(u, v);
+              const F screen_x = (pixel_x + F(offset.x)) * F(inv_width);
+              const F screen_y = (pixel_y + F(offset.y)) * F(inv_height);
               const auto ray = camera.generate(screen_x, screen_y, cs.lens_u, cs.lens_v);
               PixelSample<Arch> one =
                   renderer.render(ray, active, SampleIndex<Arch>{pixels, sample_index, screen_x, screen_y});
