@@ -338,12 +338,15 @@ TEST_CASE("bad input is named through the error callback and never crashes", "[c
   const unsigned bad_index[3] = {0, 1, 7};
   OSPData good_positions = ospNewSharedData1D(vertices, OSP_VEC3F, 3);
   ospSetObject(mesh, "vertex.position", good_positions);
+  ospSetBool(mesh, "quadSoup", true);
   ospCommit(mesh);
-  api.expect_error("required parameter 'index'");
+  api.expect_error("without 'index', 'vertex.position' must hold 4 vertices per quad ('quadSoup'), got 3");
+  ospRemoveParam(mesh, "quadSoup");
   OSPData index = ospNewSharedData1D(bad_index, OSP_VEC3UI, 1);
   ospSetObject(mesh, "index", index);
   ospCommit(mesh);
   api.expect_error("'index' of face 0 refers to vertex 7 but 'vertex.position' has 3");
+  ospRemoveParam(mesh, "index");
   const float nan_vertices[3 * 3 + 4] = {0, 0, 0, NAN, 0, 0, 0, 1, 0};
   OSPData nan_positions = ospNewSharedData1D(nan_vertices, OSP_VEC3F, 3);
   ospSetObject(mesh, "vertex.position", nan_positions);
@@ -940,11 +943,13 @@ TEST_CASE("sphere and curve: bad input is named through the error callback", "[c
   for (const auto& s : api.messages.status) warned |= s.find("'sphere.texcoord' is not used") != std::string::npos;
   CHECK_FALSE(warned);
 
-  // Model colours: one per sphere; none per curve segment yet.
+  // Model colours: one for all, or one per sphere (more are ignored, as by OSPRay); one
+  // for a whole curve, none per curve segment yet.
   OSPGeometricModel model = ospNewGeometricModel(spheres);
   set_array(model, "color", four, OSP_VEC4F, 2);
   ospCommit(model);
-  api.expect_error("geometric model: parameter 'color' has 2 colours but the geometry has 3 primitives");
+  api.expect_error("geometric model: parameter 'color' has 2 elements but there are 3 primitives (give one for all, "
+                   "or one for each)");
 
   const float pr[8] = {0, 0, 0, 0.1f, 1, 0, 0, 0.1f};
   const std::uint32_t bad_index[1] = {1};
@@ -988,7 +993,11 @@ TEST_CASE("sphere and curve: bad input is named through the error callback", "[c
   OSPGeometricModel curve_model = ospNewGeometricModel(curve);
   set_array(curve_model, "color", four, OSP_VEC4F, 1);
   ospCommit(curve_model);
-  api.expect_error("per-primitive colours of curve geometry are not supported yet");
+  CHECK(api.messages.errors.empty());
+  set_array(curve_model, "color", four, OSP_VEC4F, 2);
+  ospCommit(curve_model);
+  api.expect_error("curve geometry takes one colour for all its primitives (per-primitive colours of curve geometry "
+                   "are not supported yet)");
 
   // The constant-radius form: round linear only, its errors name 'vertex.position'.
   OSPGeometry tube = ospNewGeometry("curve");
@@ -1485,7 +1494,7 @@ TEST_CASE("box and plane: bad input is named through the error callback", "[c_ap
   const float one_color[4] = {1, 0, 0, 1};
   set_array(model, "color", one_color, OSP_VEC4F, 1);
   ospCommit(model);
-  api.expect_error("geometric model: parameter 'color' has 1 colours but the geometry has 2 primitives");
+  CHECK(api.messages.errors.empty());  // one colour for both boxes
 
   const float good_planes[2][4] = {{0, 0, 1, 0}, {1, 0, 0, -1}};
   const float nan_planes[2][4] = {{0, 0, 1, 0}, {1, 0, 0, NAN}};
@@ -2859,13 +2868,13 @@ TEST_CASE("isosurface: bad input is named through the error callback", "[c_api][
   ospCommit(g);
   CHECK(api.messages.errors.empty());
 
-  // Colours: per-primitive ones cannot show yet; a material's can.
+  // Colours: one per isovalue cannot show yet; one for all and a material's can.
   OSPGeometricModel m = ospNewGeometricModel(g);
-  const float red[3] = {1.f, 0.f, 0.f};
-  set_array(m, "color", red, OSP_VEC3F, 1);
+  const float red[6] = {1.f, 0.f, 0.f, 1.f, 0.f, 0.f};
+  set_array(m, "color", red, OSP_VEC3F, 2);
   ospCommit(m);
-  api.expect_error("ospCommit: geometric model: parameter 'color': per-primitive colours of isosurface geometry are not "
-               "supported yet");
+  api.expect_error("ospCommit: geometric model: parameter 'color' has 2 colours; isosurface geometry takes one colour "
+                   "for all its primitives");
   ospRemoveParam(m, "color");
   OSPMaterial material = ospNewMaterial("obj");
   ospSetVec3f(material, "kd", 1.f, 0.f, 0.f);

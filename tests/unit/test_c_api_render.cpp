@@ -147,13 +147,14 @@ TEST_CASE("scivis and ao through the C API: ambient light, aoIntensity, shadows"
   ospCommit(distant);
   scene.set_lights({ambient, distant});
 
-  // scivis: kd (ambient + distant * cos) on the open floor, occluded or not.
+  // scivis, as OSPRay's: kd * ambient radiance + kd/pi * distant irradiance * cos on the
+  // open floor, where neither AO nor shadow rays are blocked.
   OSPRenderer scivis = ospNewRenderer("scivis");
   ospSetBool(scivis, "shadows", true);
   ospSetInt(scivis, "aoSamples", 4);
   ospCommit(scivis);
   const auto lit = scene.render(scivis);
-  for (int k = 0; k < 3; ++k) CHECK(lit[k] == Approx(0.5f * (0.6f + 0.3f)).epsilon(1e-4));
+  for (int k = 0; k < 3; ++k) CHECK(lit[k] == Approx(0.5f * (0.6f + 0.3f / std::numbers::pi_v<float>)).epsilon(1e-4));
 
   // ao: kd * aoIntensity where nothing occludes.
   OSPRenderer ao = ospNewRenderer("ao");

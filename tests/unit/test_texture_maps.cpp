@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <numbers>
 #include <cstdio>
 #include <filesystem>
 #include <limits>
@@ -282,13 +283,13 @@ TEST_CASE("texture maps: map_d cuts holes in a quad that the view and the light 
   kernels().commit(scene.world);
   SciVisParams params;
   params.materials = {cutout, floor};
-  DistantLight sun;
+  DistantLight light;
   const Vec3f to_light = normalize(Vec3f{c, 0.f, H});
-  sun.direction = -to_light;
+  light.direction = -to_light;
   params.lights = ambient_only(ambient);
-  params.lights.push_back(sun);
+  params.lights.push_back(light);
   params.shadows = true;
-  const float cos_theta = to_light.z;
+  const float sun = to_light.z / std::numbers::pi_v<float>;  // kd/π times the irradiance cos θ
   const OrthographicCamera camera = top_view(2.f);
   const Frame frame = render(scene.world, params, camera, size);
 
@@ -300,12 +301,12 @@ TEST_CASE("texture maps: map_d cuts holes in a quad that the view and the light 
       const int cx = static_cast<int>(std::floor((p.x + 1.f) / c)), cy = static_cast<int>(std::floor((p.y + 1.f) / c));
       Vec3f expected;
       if ((cx + cy) % 2 == 0) {
-        expected = cutout.kd * (ambient + cos_theta);
+        expected = cutout.kd * (ambient + sun);
       } else {
         ++holes;
         const bool in_shadow = cx + 1 < n;
         shadowed += in_shadow;
-        expected = floor.kd * (ambient + (in_shadow ? 0.f : cos_theta));
+        expected = floor.kd * (ambient + (in_shadow ? 0.f : sun));
       }
       const float* got = &frame.rgba[4 * (static_cast<std::size_t>(y) * size + x)];
       worst = std::max({worst, double(std::abs(got[0] - expected.x)), double(std::abs(got[1] - expected.y)),
@@ -602,7 +603,7 @@ TEST_CASE("C API: bad texcoords and bad maps are named", "[c_api][texture_maps][
   ospSetObject(mesh, "vertex.texcoord", data);
   ospRelease(data);
   ospCommit(mesh);
-  api.expect_error("mesh: 'vertex.texcoord' has 2 elements but there are 3 vertices");
+  api.expect_error("mesh geometry: parameter 'vertex.texcoord' has 2 elements but there are 3 vertices");
   data = shared_floats(positions, OSP_VEC3F, 3);
   ospSetObject(mesh, "vertex.texcoord", data);
   ospRelease(data);
@@ -623,7 +624,7 @@ TEST_CASE("C API: bad texcoords and bad maps are named", "[c_api][texture_maps][
   ospSetObject(spheres, "sphere.texcoord", data);
   ospRelease(data);
   ospCommit(spheres);
-  api.expect_error("sphere: 'sphere.texcoord' has 2 elements but there are 3 spheres");
+  api.expect_error("sphere geometry: parameter 'sphere.texcoord' has 2 elements but there are 3 spheres");
 
   // A volume texture colours only an obj material's map_kd (slices).
   const float voxels[8] = {0, 1, 0, 1, 0, 1, 0, 1};

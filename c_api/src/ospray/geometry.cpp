@@ -2,6 +2,7 @@
 #include "scene_common.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <string>
@@ -28,33 +29,97 @@ void Geometry::on_commit() {
 void Geometry::commit_mesh() {
   const Data* position = get_data(*this, find("vertex.position"), "vertex.position", {OSP_VEC3F});
   if (!position) throw Error(name() + ": required parameter 'vertex.position' (array of vec3f) is missing");
+  const std::size_t vertices = position->size();
   const Data* index = get_data(*this, find("index"), "index", {OSP_VEC3UI, OSP_VEC3I, OSP_VEC4UI, OSP_VEC4I});
-  if (!index) throw Error(name() + ": required parameter 'index' (array of vec3ui or vec4ui) is missing");
-  const Data* normal = get_data(*this, find("vertex.normal"), "vertex.normal", {OSP_VEC3F});
-  const Data* color = get_data(*this, find("vertex.color"), "vertex.color", {OSP_VEC4F, OSP_VEC3F});
-  const Data* texcoord = get_data(*this, find("vertex.texcoord"), "vertex.texcoord", {OSP_VEC2F});
+  // Without `index`, as OSPRay: consecutive vertices make triangles, or quads with `quadSoup`.
+  const bool quad_soup = get_bool("quadSoup", false);
+  const bool quads = index ? index->element_type() == OSP_VEC4UI || index->element_type() == OSP_VEC4I : quad_soup;
+  const unsigned corners = quads ? 4 : 3;
+  if (!index && vertices % corners != 0)
+    throw Error(name() + ": without 'index', 'vertex.position' must hold " + (quads ? "4" : "3") + " vertices per " +
+                (quads ? "quad ('quadSoup')" : "triangle") + ", got " + std::to_string(vertices));
+  const std::size_t faces = index ? index->size() : vertices / corners;
+  PaddedVector<std::uint32_t> indices;
+  indices.reserve(corners * faces);
+  for (std::size_t f = 0; f < faces; ++f)
+    for (unsigned c = 0; c < corners; ++c) {
+      std::uint32_t v = static_cast<std::uint32_t>(corners * f + c);
+      if (index) std::memcpy(&v, index->element(f) + 4 * c, sizeof v);  // a negative int becomes out of range
+      if (v >= vertices)
+        throw Error(name() + ": 'index' of face " + std::to_string(f) + " refers to vertex " + std::to_string(v) +
+                    " but 'vertex.position' has " + std::to_string(vertices));
+      indices.push_back(v);
+    }
+
+  // Attributes per vertex (`vertex.*`) or, as OSPRay's face-varying ones (`normal`,
+  // `color`, `texcoord`), per face corner; a face-varying one wins over its per-vertex one.
+  struct Attribute {
+    const Data* data = nullptr;
+    bool face_varying = false;
+    std::string id;
+  };
+  const auto attribute = [&](const std::string& id, std::initializer_list<OSPDataType> types) {
+    if (const Data* d = get_data(*this, find(id), id, types)) return Attribute{d, true, id};
+    return Attribute{get_data(*this, find("vertex." + id), "vertex." + id, types), false, "vertex." + id};
+  };
+  const Attribute normal = attribute("normal", {OSP_VEC3F});
+  const Attribute color = attribute("color", {OSP_VEC4F, OSP_VEC3F});
+  const Attribute texcoord = attribute("texcoord", {OSP_VEC2F});
+  const bool face_varying = normal.face_varying || color.face_varying || texcoord.face_varying;
 
   // A copy, padded for Embree: the application's arrays carry no padding guarantee.
   auto mesh = std::make_shared<MeshData>();
-  append_floats(mesh->positions, *position, 3);
-  const bool quads = index->element_type() == OSP_VEC4UI || index->element_type() == OSP_VEC4I;
-  mesh->vertices_per_face = quads ? 4 : 3;
-  mesh->indices.reserve(mesh->vertices_per_face * index->size());
-  for (std::uint64_t f = 0; f < index->size(); ++f)
-    for (unsigned c = 0; c < mesh->vertices_per_face; ++c) {
-      std::uint32_t v;
-      std::memcpy(&v, index->element(f) + 4 * c, sizeof v);  // a negative int becomes out of range
-      mesh->indices.push_back(v);
+  mesh->vertices_per_face = corners;
+  if (!face_varying) {
+    append_floats(mesh->positions, *position, 3);
+    mesh->indices = std::move(indices);
+  } else {
+    // One vertex per face corner, so that every attribute can be per vertex.
+    const std::size_t n = corners * faces;
+    mesh->positions.reserve(3 * n);
+    for (std::size_t k = 0; k < n; ++k)
+      for (int c = 0; c < 3; ++c) mesh->positions.push_back(read_float(position->element(indices[k]) + 4 * c));
+    mesh->indices.resize(n);
+    for (std::size_t k = 0; k < n; ++k) mesh->indices[k] = static_cast<std::uint32_t>(k);
+  }
+  const auto read = [&](const Attribute& a, PaddedVector<float>& out, int components, int pad_to) {
+    if (!a.data) return;
+    const int element_components = a.data->element_type() == OSP_VEC4F ? 4 : components;
+    if (!face_varying) return append_per_item(out, *this, a.id, *a.data, vertices, "vertices", false, element_components, pad_to);
+    const std::size_t items = a.face_varying ? corners * faces : vertices;
+    per_item_count(*this, a.id, *a.data, items, a.face_varying ? "face corners" : "vertices");
+    for (std::size_t k = 0; k < corners * faces; ++k) {
+      const std::byte* e = a.data->element(a.face_varying ? k : indices[k]);
+      for (int c = 0; c < element_components; ++c) out.push_back(read_float(e + 4 * c));
+      for (int c = element_components; c < pad_to; ++c) out.push_back(1.f);
     }
-  if (normal) append_floats(mesh->normals, *normal, 3);
-  if (color) append_colors(mesh->vertex_colors, *color);
-  if (texcoord) append_floats(mesh->texcoords, *texcoord, 2);
+  };
+  read(normal, mesh->normals, 3, 3);
+  read(color, mesh->vertex_colors, 3, 4);
+  read(texcoord, mesh->texcoords, 2, 2);
   TriangleMesh check(mesh);
-  check.validate();  // names the bad index or vertex: "mesh: 'index' of face 3 refers to ..."
+  check.validate();  // names the bad vertex: "mesh: 'vertex.position' 3 is not finite"
   bounds_ = check.bounds();
   primitive_count_ = check.face_count();
   mesh_ = std::move(mesh);
 }
+
+namespace {
+
+/// The bounds Embree gives `curves` (as OSPRay reports them): each segment's own
+/// bounds — tight around a B-spline, grown by the larger end radius around a linear
+/// segment — which programs frame their cameras by, so sciray reports the same.
+Box3f embree_bounds(const Curves& curves) {
+  static const accel::Device device;  // one for all bounds queries; Embree devices are thread-safe
+  accel::Scene scene(device);
+  const RTCGeometry geometry = curves.create_embree_geometry<simd::scalar>(device);
+  scene.attach(geometry);
+  rtcReleaseGeometry(geometry);
+  scene.commit();
+  return scene.bounds();
+}
+
+}  // namespace
 
 void Geometry::commit_spheres() {
   const Data* position = get_data(*this, find("sphere.position"), "sphere.position", {OSP_VEC3F});
@@ -78,11 +143,16 @@ void Geometry::commit_spheres() {
   }
 
   auto data = std::make_shared<SphereData>();
+  const std::size_t count = position->size();
   append_floats(data->positions, *position, 3);
-  if (radius) append_floats(data->radii, *radius, 1);
+  // A one-element `sphere.radius` is the radius of every sphere, as `radius` is.
   data->radius = get_float("radius", 0.01f);
-  if (normal) append_floats(data->normals, *normal, 3);
-  if (texcoord) append_floats(data->texcoords, *texcoord, 2);
+  if (radius && per_item_count(*this, "sphere.radius", *radius, count, "spheres", true) == 1)
+    data->radius = read_float(radius->element(0));
+  else if (radius)
+    append_per_item(data->radii, *this, "sphere.radius", *radius, count, "spheres", false, 1);
+  if (normal) append_per_item(data->normals, *this, "sphere.normal", *normal, count, "spheres", false, 3);
+  if (texcoord) append_per_item(data->texcoords, *this, "sphere.texcoord", *texcoord, count, "spheres", false, 2);
   Spheres check(data);
   check.set_type(type).set_intersector(intersector);
   check.validate();  // "sphere: 'sphere.radius' 2 must be positive, got -1"
@@ -153,10 +223,13 @@ void Geometry::commit_curves() {
     std::memcpy(&v, index->element(s), sizeof v);  // a negative int becomes out of range
     data->indices.push_back(v);
   }
+  // Per-vertex arrays longer than the vertices are accepted (OSPRay reads what it needs).
+  const std::size_t vertices = data->vertex_count();
   if (const Data* color = get_data(*this, find("vertex.color"), "vertex.color", {OSP_VEC4F, OSP_VEC3F}))
-    append_colors(data->colors, *color);
-  if (tangent) append_floats(data->tangents, *tangent, 4);
-  if (normal) append_floats(data->normals, *normal, 3);
+    append_per_item(data->colors, *this, "vertex.color", *color, vertices, "vertices", false,
+                    color->element_type() == OSP_VEC4F ? 4 : 3, 4);
+  if (tangent) append_per_item(data->tangents, *this, "vertex.tangent", *tangent, vertices, "vertices", false, 4);
+  if (normal) append_per_item(data->normals, *this, "vertex.normal", *normal, vertices, "vertices", false, 3);
 
   Curves check(data);
   try {
@@ -170,7 +243,7 @@ void Geometry::commit_curves() {
       message.replace(at, from.size(), to);
     throw Error(message);
   }
-  bounds_ = check.bounds();
+  bounds_ = embree_bounds(check);
   primitive_count_ = check.segment_count();
   curves_ = std::move(data);
 }
@@ -216,49 +289,81 @@ void GeometricModel::on_commit() {
   // Read into locals: a commit that fails leaves the model as it was.
   Ref<Geometry> geometry = get_object<Geometry>("geometry", OSP_GEOMETRY, true);
   if (!geometry->committed()) throw Error(name() + ": its geometry has not been committed");
+  // `material`: one OSPMaterial, or indices into the renderer's `material` list, either
+  // one for all primitives or one per primitive (OSPRay's material lists).
   Ref<Material> material;
-  if (const Param* p = find("material"); p && p->object) {
-    if (p->object->kind() == OSP_MATERIAL) {
-      material = static_cast<Material*>(p->object.get());
-    } else if (p->object->kind() == OSP_DATA) {
-      const Data* list = get_data(*this, p, "material", {OSP_MATERIAL});
-      if (list->size() != 1)
-        throw Error(name() + ": parameter 'material': per-primitive materials are not supported yet; pass one");
-      material = static_cast<Material*>(list->object(0));
-    } else {
-      throw Error(name() + ": parameter 'material' must be an OSPMaterial, got " + type_name(p->object->kind()));
+  std::vector<MaterialChoice> choices;
+  if (const Data* list = get_data(*this, find("material"), "material", {OSP_MATERIAL, OSP_UINT, OSP_INT})) {
+    const bool objects = list->element_type() == OSP_MATERIAL;
+    const std::size_t given =
+        per_item_count(*this, "material", *list, geometry->primitive_count(), "primitives", true);
+    for (std::size_t i = 0; i < given; ++i) {
+      MaterialChoice choice{nullptr, 0};
+      if (objects) {
+        auto* object = static_cast<Material*>(list->object(i));
+        if (!object) throw Error(name() + ": parameter 'material' element " + std::to_string(i) + " is NULL");
+        choice.object = object;
+      } else {
+        std::int32_t index;
+        std::memcpy(&index, list->element(i), sizeof index);
+        if (list->element_type() == OSP_INT && index < 0)
+          throw Error(name() + ": parameter 'material' element " + std::to_string(i) + " is a negative index " +
+                      std::to_string(index) + " into the renderer's materials");
+        choice.renderer_index = static_cast<std::uint32_t>(index);
+      }
+      choices.push_back(std::move(choice));
     }
-  } else if (p) {
-    throw Error(name() + ": parameter 'material' as a renderer material index is not supported yet; pass an "
-                         "OSPMaterial");
+    if (choices.size() == 1 && choices[0].object) {
+      material = choices[0].object;
+      choices.clear();
+    }
   }
+  // One colour is for every primitive; otherwise one per primitive, except on curves and
+  // isosurfaces, whose primitives (segments, isovalues) sciray does not colour apart.
   PaddedVector<float> face_colors;
+  std::optional<std::array<float, 4>> uniform_color;
   if (const Data* color = get_data(*this, find("color"), "color", {OSP_VEC4F, OSP_VEC3F})) {
-    if (geometry->curves())
-      throw Error(name() + ": parameter 'color': per-primitive colours of curve geometry are not supported yet; give "
-                           "the curve's 'vertex.color'");
-    if (geometry->isosurface_volume())
-      throw Error(name() + ": parameter 'color': per-primitive colours of isosurface geometry are not supported yet "
-                           "(isosurfaces show the renderer's default grey)");
-    const std::size_t primitives = geometry->primitive_count();
-    if (color->size() != primitives)
-      throw Error(name() + ": parameter 'color' has " + std::to_string(color->size()) + " colours but the geometry has " +
-                  std::to_string(primitives) + " primitives");
-    append_colors(face_colors, *color);
+    const bool per_primitive = !geometry->curves() && !geometry->isosurface_volume();
+    const int components = color->element_type() == OSP_VEC4F ? 4 : 3;
+    const float alpha = components == 4 ? read_float(color->element(0) + 12) : 1.f;
+    // One translucent colour is spread over the primitives, whose colours carry alpha.
+    if (color->size() == 1 && (!per_primitive || alpha == 1.f)) {
+      uniform_color = {read_float(color->element(0)), read_float(color->element(0) + 4),
+                       read_float(color->element(0) + 8), alpha};
+    } else if (per_primitive) {
+      append_per_item(face_colors, *this, "color", *color, geometry->primitive_count(), "primitives", true,
+                      components, 4);
+    } else {
+      throw Error(name() + ": parameter 'color' has " + std::to_string(color->size()) + " colours; " +
+                  geometry->subtype() + " geometry takes one colour for all its primitives (per-primitive colours "
+                  "of " + geometry->subtype() + " geometry are not supported yet)");
+    }
   }
   if (const std::string why = cannot_colour(*geometry, material.get()); !why.empty()) throw Error(name() + ": " + why);
+  for (const MaterialChoice& choice : choices)
+    if (const std::string why = cannot_colour(*geometry, choice.object.get()); !why.empty())
+      throw Error(name() + ": " + why);
   // Shading is two-sided, so the side matters only to clipping geometry.
   const bool invert_normals = get_bool("invertNormals", false);
   get_int("id", 0);
   geometry_ = std::move(geometry);
   material_ = std::move(material);
+  material_choices_ = std::move(choices);
   face_colors_ = std::move(face_colors);
+  uniform_color_ = uniform_color;
   invert_normals_ = invert_normals;
 }
 
 std::optional<Vec3f> GeometricModel::material_color() const {
   if (!material_) return std::nullopt;
   return material_->base_color();  // as last committed: a material commit reaches the world
+}
+
+std::optional<Vec3f> GeometricModel::uniform_color() const {
+  if (!uniform_color_) return std::nullopt;
+  const Vec3f rgb{(*uniform_color_)[0], (*uniform_color_)[1], (*uniform_color_)[2]};
+  const std::optional<Vec3f> kd = material_color();
+  return kd ? rgb * *kd : rgb;
 }
 
 TextureObject* GeometricModel::volume_texture() const { return material_ ? material_->volume_map_kd() : nullptr; }

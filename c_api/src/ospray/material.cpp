@@ -79,10 +79,10 @@ std::optional<Vec3f> Material::base_color() const {
   return std::nullopt;
 }
 
-sciray::Material Material::without_base_color() const {
+sciray::Material Material::with_base_color(const Vec3f& color) const {
   sciray::Material m = material();
-  if (auto* obj = std::get_if<ObjMaterial>(&m)) obj->kd = {1.f, 1.f, 1.f};
-  if (auto* principled = std::get_if<PrincipledMaterial>(&m)) principled->base_color = {1.f, 1.f, 1.f};
+  if (auto* obj = std::get_if<ObjMaterial>(&m)) obj->kd = color;
+  if (auto* principled = std::get_if<PrincipledMaterial>(&m)) principled->base_color = color;
   return m;
 }
 

@@ -91,6 +91,9 @@ struct Param {
   std::string string;
   Ref<Object> object;
   mutable bool used = false;
+  /// The one-element array a single value stands for where an array is expected (made
+  /// on first such read; see get_data).
+  mutable Ref<Object> as_array;
 };
 
 class Object {

@@ -56,6 +56,14 @@ void Renderer::on_commit() {
         }
       },
       config);
+  std::vector<Ref<Material>> materials;
+  if (const Data* list = get_data(*this, find("material"), "material", {OSP_MATERIAL}))
+    for (std::size_t i = 0; i < list->size(); ++i) {
+      auto* material = static_cast<Material*>(list->object(i));
+      if (!material || !material->committed())
+        throw Error(name() + ": parameter 'material' element " + std::to_string(i) + " is not a committed material");
+      materials.emplace_back(material);
+    }
   FrameSettings settings;
   settings.pixel_samples = get_int("pixelSamples", 1);
   settings.variance_threshold = get_float("varianceThreshold", 0.f);
@@ -67,6 +75,7 @@ void Renderer::on_commit() {
   }
   config_ = std::move(config);
   settings_ = settings;
+  materials_ = std::move(materials);
 }
 
 shim::RendererConfig Renderer::config(const BuiltWorld& world) const {
@@ -75,6 +84,14 @@ shim::RendererConfig Renderer::config(const BuiltWorld& world) const {
       [&](auto& p) {
         p.lights = world.lights;
         p.materials = world.materials;
+        // Models' indices into the renderer's `material` list; as OSPRay, an index
+        // beyond it shows the default obj material.
+        for (const BuiltWorld::RendererMaterial& r : world.renderer_materials) {
+          if (r.index >= materials_.size()) continue;
+          const Material& m = *materials_[r.index];
+          const auto base = m.base_color();
+          p.materials[r.entry] = r.tint && base ? m.with_base_color(*r.tint * *base) : m.material();
+        }
       },
       config);
   return config;

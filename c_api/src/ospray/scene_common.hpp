@@ -11,7 +11,8 @@
 namespace sciray::ospray {
 
 /// The 1D data array parameter `p` (named `id`) of `owner`, with its element type among
-/// `accepted`; null where it is absent or set to NULL.
+/// `accepted`; null where it is absent or set to NULL. As in OSPRay, a single value (or
+/// object) of an accepted type stands for a one-element array.
 const Data* get_data(const Object& owner, const Param* p, const std::string& id,
                      std::initializer_list<OSPDataType> accepted);
 
@@ -32,6 +33,18 @@ inline Box3f read_box(const std::byte* p) {
 /// Appends `components` floats of every element of `data` to `out` (honouring its byte
 /// strides), then `pad_to - components` ones: a vec3f colour becomes RGBA with alpha 1.
 void append_floats(PaddedVector<float>& out, const Data& data, int components, int pad_to = 0);
+
+/// OSPRay's per-item arrays (per vertex, per primitive): how many of `data`'s elements
+/// give the `items` values — all `items` (elements beyond them are ignored, as OSPRay
+/// does), or 1 where `broadcast` and the array has one element for all. Fewer is an
+/// error naming the parameter and `item_name` ("vertices", "primitives").
+std::size_t per_item_count(const Object& owner, const std::string& id, const Data& data, std::size_t items,
+                           const char* item_name, bool broadcast = false);
+
+/// append_floats for a per-item array (see per_item_count): `items` values, a single
+/// element repeated where it stands for all.
+void append_per_item(PaddedVector<float>& out, const Object& owner, const std::string& id, const Data& data,
+                     std::size_t items, const char* item_name, bool broadcast, int components, int pad_to = 0);
 
 /// An RGBA colour array (vec4f, or vec3f with alpha 1) copied into `out`.
 inline void append_colors(PaddedVector<float>& out, const Data& data) {

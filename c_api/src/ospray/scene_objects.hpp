@@ -4,6 +4,7 @@
 // (piecewiseLinear), volumetric models, textures (volume), groups, instances, worlds,
 // lights, materials and renderers. Each reads its committed parameters in on_commit and names the parameter
 // when one is wrong.
+#include <array>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -169,8 +170,9 @@ public:
   /// The colour geometries bake into their own colours (obj `kd`, principled `baseColor`),
   /// none for materials whose colour is not a plain diffuse tint.
   std::optional<Vec3f> base_color() const;
-  /// material() with its base colour white, for geometries that baked it in.
-  sciray::Material without_base_color() const;
+  /// material() with another base colour: white for geometries that baked it in, or the
+  /// base colour tinted by a model's colour.
+  sciray::Material with_base_color(const Vec3f& color) const;
   /// `map_kd` where it is a volume texture (whose colour multiplies kd), or null.
   TextureObject* volume_map_kd() const { return volume_map_kd_.get(); }
   /// Also counts the textures' commits.
@@ -269,12 +271,28 @@ class GeometricModel : public Object {
 public:
   GeometricModel() : Object(OSP_GEOMETRIC_MODEL, "") {}
   Geometry* geometry() const { return geometry_.get(); }
+  /// The material of every primitive, where `material` is one OSPMaterial (else null).
   Material* material() const { return material_.get(); }
+  /// Where `material` names the renderer's materials (`uint` indices into its `material`
+  /// list) or gives one per primitive: each primitive's choice (one element for all).
+  struct MaterialChoice {
+    Ref<Material> object;          ///< the material, or null for a renderer index
+    std::uint32_t renderer_index;  ///< index into the renderer's list where object is null
+  };
+  const std::vector<MaterialChoice>& material_choices() const { return material_choices_; }
   /// The material's `kd`, if the model has a material.
   std::optional<Vec3f> material_color() const;
+  /// The colour the model gives all of its primitives (one `color`), overriding the
+  /// geometry's own colours, times the material's `kd`; none without one `color`.
+  std::optional<Vec3f> uniform_color() const;
+  /// The alpha of the one `color` (1 without one).
+  float uniform_alpha() const { return uniform_color_ ? (*uniform_color_)[3] : 1.f; }
+  /// material_color(), or uniform_color() where the model has one `color`: what
+  /// multiplies (or, with no colours of their own, is) the primitives' colours.
+  std::optional<Vec3f> tint() const { return uniform_color_ ? uniform_color() : material_color(); }
   /// The material's `map_kd` when it is a volume texture, or null.
   TextureObject* volume_texture() const;
-  /// Per-primitive colours (RGBA), or empty.
+  /// Per-primitive colours (RGBA), or empty (also where one `color` is for all).
   const PaddedVector<float>& face_colors() const { return face_colors_; }
   /// `invertNormals`: as clipping geometry, the model clips its outside instead of its
   /// inside (shading is two-sided, so it changes nothing else).
@@ -287,7 +305,10 @@ protected:
 private:
   Ref<Geometry> geometry_;
   Ref<Material> material_;
+  std::vector<MaterialChoice> material_choices_;
   PaddedVector<float> face_colors_;
+  /// One `color` (RGBA) for all primitives; its alpha is below 1 only on curves and isosurfaces.
+  std::optional<std::array<float, 4>> uniform_color_;
   bool invert_normals_ = false;
 };
 
@@ -388,6 +409,14 @@ struct BuiltWorld {
   std::vector<PlacedInstance> instances;  ///< by engine instance index
   std::vector<sciray::Light> lights;
   std::vector<sciray::Material> materials;  ///< what the geometries' material indices name
+  /// Entries of `materials` that are the renderer's: its `material` list's element
+  /// `index`, tinted by a model's colour (isosurfaces) where given.
+  struct RendererMaterial {
+    std::size_t entry;
+    std::uint32_t index;
+    std::optional<Vec3f> tint;
+  };
+  std::vector<RendererMaterial> renderer_materials;
   std::uint64_t version = 0;
 
   struct Origin {
@@ -423,7 +452,8 @@ private:
   /// The engine material index of `material` (no_material for none), as baked (base colour
   /// in the geometry's colours) or not. Indices stay valid across builds, so that cached
   /// groups keep theirs.
-  std::uint32_t material_index(Material* material, bool baked);
+  std::uint32_t material_index(Material* material, bool baked, const std::optional<Vec3f>& tint = std::nullopt,
+                               std::optional<std::uint32_t> renderer_index = std::nullopt);
   /// The clipping geometry of every instance's group, placed by the instance, in world
   /// space; null when there is none.
   std::shared_ptr<Clipping> build_clipping() const;
@@ -433,6 +463,8 @@ private:
   struct MaterialEntry {
     Ref<Material> material;
     bool baked;
+    std::optional<Vec3f> tint;  ///< multiplies the base colour (a model's one `color`)
+    std::optional<std::uint32_t> renderer_index;  ///< the renderer's material of this index, where material is null
   };
   std::vector<MaterialEntry> materials_;
   std::mutex build_mutex_;
@@ -458,6 +490,7 @@ protected:
 private:
   shim::RendererConfig config_;
   FrameSettings settings_;
+  std::vector<Ref<Material>> materials_;  ///< `material`: what models' material indices name
 };
 
 }  // namespace sciray::ospray

@@ -178,20 +178,23 @@ std::vector<float> tinted_colors(const PaddedVector<float>& colors, const std::o
   return out;
 }
 
-/// The mesh of `model`: the geometry's data shared; the model's per-face colours, if
-/// any, held by `keep_alive`.
+/// The mesh of `model`: the geometry's data shared; the model's colours (per face, held
+/// by `keep_alive`, or one for all), if any, replace the vertex colours.
 TriangleMesh model_mesh(const GeometricModel& model, std::vector<std::shared_ptr<const void>>& keep_alive) {
   const std::shared_ptr<const MeshData>& data = model.geometry()->mesh();
   TriangleMesh mesh(data);
-  if (!model.face_colors().empty()) {
-    auto colors = std::make_shared<const PaddedVector<float>>(model.face_colors());
+  if (!model.face_colors().empty() || model.uniform_color()) {
     keep_alive.push_back(data);
-    keep_alive.push_back(colors);
     TriangleMesh::SharedArrays arrays = mesh.arrays();
-    arrays.face_colors = {colors->data(), colors->size() / 4, 4 * sizeof(float)};
+    arrays.vertex_colors = {};  // the model's colours override the geometry's
+    if (!model.uniform_color()) {
+      auto colors = std::make_shared<const PaddedVector<float>>(model.face_colors());
+      arrays.face_colors = {colors->data(), colors->size() / 4, 4 * sizeof(float)};
+      keep_alive.push_back(std::move(colors));
+    }
     mesh = TriangleMesh::shared(arrays);
   }
-  if (const auto kd = model.material_color()) mesh.set_material_color(*kd);
+  if (const auto tint = model.tint()) mesh.set_material_color(*tint);
   return mesh;
 }
 
@@ -211,9 +214,9 @@ Spheres model_spheres(const GeometricModel& model, std::vector<std::shared_ptr<c
   if (!d.texcoords.empty()) a.texcoords = {d.texcoords.data(), n, 2 * sizeof(float)};
   // Spheres have no material colour of their own: kd multiplies the colours, as a mesh
   // shades its face colours.
-  if (!model.face_colors().empty() || model.material_color()) {
+  if (!model.face_colors().empty() || model.tint()) {
     auto colors = std::make_shared<PaddedVector<float>>();
-    const std::vector<float> tinted = tinted_colors(model.face_colors(), model.material_color(), n);
+    const std::vector<float> tinted = tinted_colors(model.face_colors(), model.tint(), n);
     colors->assign(tinted.begin(), tinted.end());
     a.colors = {colors->data(), colors->size() / 4, 4 * sizeof(float)};
     keep_alive.push_back(std::move(colors));
@@ -223,15 +226,18 @@ Spheres model_spheres(const GeometricModel& model, std::vector<std::shared_ptr<c
   return spheres;
 }
 
-/// The curves of `model`: shared, or with kd a copy whose vertex colours it multiplies.
+/// The curves of `model`: shared, or with kd (or one model colour, which replaces the
+/// vertex colours) a copy whose vertex colours it multiplies.
 Curves model_curves(const GeometricModel& model) {
   std::shared_ptr<const CurveData> data = model.geometry()->curves();
-  const auto kd = model.material_color();
-  if (!kd) return Curves(data);
+  const auto tint = model.tint();
+  if (!tint) return Curves(data);
   auto copy = std::make_shared<CurveData>(*data);
-  if (copy->colors.empty()) copy->colors.assign(4 * copy->vertex_count(), 1.f);
+  if (copy->colors.empty() || model.uniform_color()) copy->colors.assign(4 * copy->vertex_count(), 1.f);
+  const float alpha = model.uniform_alpha();
   for (std::size_t v = 0; 4 * v < copy->colors.size(); ++v)
-    copy->colors[4 * v] *= kd->x, copy->colors[4 * v + 1] *= kd->y, copy->colors[4 * v + 2] *= kd->z;
+    copy->colors[4 * v] *= tint->x, copy->colors[4 * v + 1] *= tint->y, copy->colors[4 * v + 2] *= tint->z,
+                  copy->colors[4 * v + 3] *= alpha;
   return Curves(std::shared_ptr<const CurveData>(std::move(copy)));
 }
 
@@ -402,28 +408,40 @@ std::shared_ptr<const BuiltGroup> World::build_group(Group& group, const shim::I
       throw Error("parameter 'geometry' element " + std::to_string(k) + " (" + model->name() + " of " +
                   geometry.name() + "): " + why);
     // Geometries bake their material's base colour into their colours, except
-    // isosurfaces, which have none.
-    const std::uint32_t material = material_index(model->material(), !geometry.isosurface());
+    // isosurfaces, which have none: their material is tinted by the model's one colour.
+    // The renderer's materials and per-primitive ones are not baked (the colours
+    // multiply their base colour when shading).
+    const bool iso = geometry.isosurface_volume();
+    const std::optional<Vec3f> iso_tint = iso ? model->uniform_color() : std::nullopt;
+    std::uint32_t material = geometry.isosurface_volume() ? material_index(model->material(), false, iso_tint)
+                                                          : material_index(model->material(), true);
+    std::vector<std::uint32_t> primitive_materials;
+    for (const GeometricModel::MaterialChoice& choice : model->material_choices())
+      primitive_materials.push_back(choice.object ? material_index(choice.object.get(), false, iso_tint)
+                                                  : material_index(nullptr, false, iso_tint, choice.renderer_index));
+    if (primitive_materials.size() == 1) material = primitive_materials[0], primitive_materials.clear();
+    const auto add = [&](auto geometry_of_model) {
+      built->group->add(std::move(geometry_of_model), material, primitive_materials);
+    };
     if (geometry.spheres()) {
-      built->group->add(model_spheres(*model, built->keep_alive), material);
+      add(model_spheres(*model, built->keep_alive));
     } else if (geometry.curves()) {
-      built->group->add(model_curves(*model), material);
+      add(model_curves(*model));
     } else if (geometry.boxes()) {
       // Boxes and planes own their primitives with the model's colours.
       const auto& data = *geometry.boxes();
-      built->group->add(
-          Boxes(data.boxes, tinted_colors(model->face_colors(), model->material_color(), data.boxes.size())), material);
+      add(Boxes(data.boxes, tinted_colors(model->face_colors(), model->tint(), data.boxes.size())));
     } else if (geometry.planes()) {
       const auto& data = *geometry.planes();
-      auto colors = tinted_colors(model->face_colors(), model->material_color(), data.planes.size());
+      auto colors = tinted_colors(model->face_colors(), model->tint(), data.planes.size());
       if (model->volume_texture())
-        built->group->add(model_slice(*model, data, std::move(colors)), material);  // planes coloured by a volume
+        add(model_slice(*model, data, std::move(colors)));  // planes coloured by a volume
       else
-        built->group->add(Planes(data.planes, data.bounds, std::move(colors)), material);
+        add(Planes(data.planes, data.bounds, std::move(colors)));
     } else if (const auto isosurface = geometry.isosurface()) {
-      built->group->add(*isosurface, material);  // a copy: the volume is shared
+      add(*isosurface);  // a copy: the volume is shared
     } else {
-      built->group->add(model_mesh(*model, built->keep_alive), material);
+      add(model_mesh(*model, built->keep_alive));
     }
     built->models.push_back(model);
   }
@@ -431,11 +449,17 @@ std::shared_ptr<const BuiltGroup> World::build_group(Group& group, const shim::I
   return built;
 }
 
-std::uint32_t World::material_index(Material* material, bool baked) {
-  if (!material) return no_material;
-  for (std::size_t i = 0; i < materials_.size(); ++i)
-    if (materials_[i].material.get() == material && materials_[i].baked == baked) return static_cast<std::uint32_t>(i);
-  materials_.push_back({material, baked});
+std::uint32_t World::material_index(Material* material, bool baked, const std::optional<Vec3f>& tint,
+                                    std::optional<std::uint32_t> renderer_index) {
+  if (!material && !tint && !renderer_index) return no_material;
+  for (std::size_t i = 0; i < materials_.size(); ++i) {
+    const MaterialEntry& e = materials_[i];
+    const bool same_tint = e.tint.has_value() == tint.has_value() &&
+                           (!tint || (e.tint->x == tint->x && e.tint->y == tint->y && e.tint->z == tint->z));
+    if (e.material.get() == material && e.baked == baked && same_tint && e.renderer_index == renderer_index)
+      return static_cast<std::uint32_t>(i);
+  }
+  materials_.push_back({material, baked, tint, renderer_index});
   return static_cast<std::uint32_t>(materials_.size() - 1);
 }
 
@@ -490,8 +514,20 @@ std::shared_ptr<const BuiltWorld> World::built(const shim::IsaKernels& kernels, 
   kernels.commit(*built->world);
 
   for (const auto& light : lights_) built->lights.push_back(light->light());
-  for (const MaterialEntry& entry : materials_)
-    built->materials.push_back(entry.baked ? entry.material->without_base_color() : entry.material->material());
+  for (const MaterialEntry& entry : materials_) {
+    if (entry.renderer_index) {  // filled in per frame, from the renderer's list
+      built->renderer_materials.push_back({built->materials.size(), *entry.renderer_index, entry.tint});
+      built->materials.push_back(ObjMaterial{});
+    } else if (!entry.material) {  // a model's colour on a surface without a material
+      ObjMaterial colored;
+      colored.kd = *entry.tint;
+      built->materials.push_back(colored);
+    } else if (entry.baked) {
+      built->materials.push_back(entry.material->with_base_color({1.f, 1.f, 1.f}));
+    } else {
+      built->materials.push_back(entry.tint ? entry.material->with_base_color(*entry.tint) : entry.material->material());
+    }
+  }
   // Only a successful build replaces the cache: groups no instance uses any more go.
   group_cache_.clear();
   for (const auto& [group, index] : group_index) group_cache_.emplace(group, built->groups[index]);

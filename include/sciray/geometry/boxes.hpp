@@ -36,6 +36,7 @@ SurfaceSample<Arch> colored_surface(const std::vector<float>& colors, const acce
   const I at = simd::select(lanes, hit.prim_id, I(0)) * I(4);
   s.color = {simd::gather<Arch>(colors.data(), at), simd::gather<Arch>(colors.data(), at + I(1)),
              simd::gather<Arch>(colors.data(), at + I(2))};
+  s.alpha = simd::gather<Arch>(colors.data(), at + I(3));
   return s;
 }
 
@@ -54,7 +55,8 @@ class Boxes {
 public:
   /// `boxes`: one Box3f per primitive; `colors`: r,g,b,a per box, or empty.
   explicit Boxes(std::vector<Box3f> boxes, std::vector<float> colors = {})
-      : data_(std::make_shared<const Data>(Data{std::move(boxes), std::move(colors)})) {}
+      : data_(std::make_shared<const Data>(Data{std::move(boxes), std::move(colors)})),
+        translucent_(translucent(data_->colors)) {}
 
   std::size_t count() const { return data_->boxes.size(); }
   std::size_t owned_bytes() const { return count() * sizeof(Box3f) + data_->colors.size() * sizeof(float); }
@@ -113,6 +115,8 @@ public:
   SurfaceSample<Arch> surface(const accel::Hit<Arch>& hit, const simd::Mask<Arch>& lanes) const {
     return box_detail::colored_surface<Arch>(data_->colors, hit, lanes);
   }
+  /// Whether a colour has alpha below 1.
+  bool translucent_colors() const { return translucent_; }
 
 private:
   struct Data {
@@ -120,6 +124,7 @@ private:
     std::vector<float> colors;
   };
   std::shared_ptr<const Data> data_;
+  bool translucent_;
 };
 
 /// Planes a·x + b·y + c·z + d = 0, each optionally bounded by a box (OSPRay's
@@ -134,7 +139,8 @@ public:
 
   /// `bounds`: empty, or one box per plane; `colors`: r,g,b,a per plane, or empty.
   explicit Planes(std::vector<Plane> planes, std::vector<Box3f> bounds = {}, std::vector<float> colors = {})
-      : data_(std::make_shared<const Data>(Data{std::move(planes), std::move(bounds), std::move(colors)})) {}
+      : data_(std::make_shared<const Data>(Data{std::move(planes), std::move(bounds), std::move(colors)})),
+        translucent_(translucent(data_->colors)) {}
 
   std::size_t count() const { return data_->planes.size(); }
   std::size_t owned_bytes() const {
@@ -204,6 +210,8 @@ public:
   SurfaceSample<Arch> surface(const accel::Hit<Arch>& hit, const simd::Mask<Arch>& lanes) const {
     return box_detail::colored_surface<Arch>(data_->colors, hit, lanes);
   }
+  /// Whether a colour has alpha below 1.
+  bool translucent_colors() const { return translucent_; }
 
 private:
   struct Data {
@@ -212,6 +220,7 @@ private:
     std::vector<float> colors;
   };
   std::shared_ptr<const Data> data_;
+  bool translucent_;
 };
 
 }  // namespace sciray

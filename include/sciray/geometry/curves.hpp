@@ -39,10 +39,13 @@ struct CurveData {
 
 class Curves {
 public:
-  explicit Curves(CurveData data) : data_(std::make_shared<const CurveData>(std::move(data))) {}
-  explicit Curves(std::shared_ptr<const CurveData> data) : data_(std::move(data)) {}
+  explicit Curves(CurveData data) : Curves(std::make_shared<const CurveData>(std::move(data))) {}
+  explicit Curves(std::shared_ptr<const CurveData> data)
+      : data_(std::move(data)), translucent_(translucent(data_->colors)) {}
 
   const CurveData& data() const { return *data_; }
+  /// Whether a vertex colour has alpha below 1.
+  bool translucent_colors() const { return translucent_; }
   std::size_t segment_count() const { return data_->indices.size(); }
 
   std::size_t owned_bytes() const {
@@ -141,6 +144,7 @@ public:
       return ca + (simd::gather<Arch>(c, b + I(k)) - ca) * t;
     };
     s.color = {lerp(0), lerp(1), lerp(2)};
+    s.alpha = lerp(3);
     return s;
   }
 
@@ -189,6 +193,7 @@ private:
   }
 
   std::shared_ptr<const CurveData> data_;
+  bool translucent_;
 };
 
 }  // namespace sciray

@@ -62,13 +62,18 @@ public:
     owned_bytes_ =
         (d.positions.size() + d.radii.size() + d.colors.size() + d.normals.size() + d.texcoords.size()) * sizeof(float);
     keep_alive_ = std::move(owned);
+    translucent_ = translucent(arrays_.colors);
   }
 
   static Spheres shared(const SharedArrays& arrays) {
     Spheres spheres;
     spheres.arrays_ = arrays;
+    spheres.translucent_ = translucent(arrays.colors);
     return spheres;
   }
+
+  /// Whether a colour has alpha below 1.
+  bool translucent_colors() const { return translucent_; }
 
   Spheres& set_type(SphereType type) { return type_ = type, *this; }
   Spheres& set_intersector(SphereIntersector intersector) { return intersector_ = intersector, *this; }
@@ -178,6 +183,7 @@ public:
     const float* colors = arrays_.colors.data();
     s.color = {simd::gather<Arch>(colors, at), simd::gather<Arch>(colors, at + I(1)),
                simd::gather<Arch>(colors, at + I(2))};
+    if (translucent_) s.alpha = simd::gather<Arch>(colors, at + I(3));
     return s;
   }
 
@@ -208,6 +214,7 @@ private:
   }
 
   SharedArrays arrays_;
+  bool translucent_ = false;
   SphereType type_ = SphereType::sphere;
   SphereIntersector intersector_ = SphereIntersector::sciray;
   std::size_t owned_bytes_ = 0;

@@ -1,4 +1,8 @@
 #pragma once
+#include <cstddef>
+#include <vector>
+
+#include "sciray/geometry/data.hpp"
 #include "sciray/math/vec.hpp"
 
 namespace sciray {
@@ -16,8 +20,23 @@ struct SurfaceSample {
   Vec3<F> normal;  ///< unit shading normal (not yet facing the ray)
   Vec3<F> color;   ///< base colour (linear RGB)
   simd::Mask<Arch> has_color;  ///< whether the geometry supplied the colour
+  /// The colour's alpha, which OSPRay's renderers take as opacity (times the material's).
+  F alpha = F(1.f);
   /// Interpolated texture coordinates; (0, 0) on geometry without them, as in OSPRay.
   TexCoord<F> uv{F(0.f), F(0.f)};
 };
+
+/// Whether any of the RGBA `colors` (alpha fourth) is translucent: renderers then look
+/// at the alpha of what shadow rays pass.
+inline bool translucent(const StridedView<float>& colors) {
+  for (std::size_t i = 0; i < colors.count; ++i)
+    if (colors.element(i)[3] < 1.f) return true;
+  return false;
+}
+
+template <class Allocator>
+bool translucent(const std::vector<float, Allocator>& rgba) {
+  return translucent(StridedView<float>(rgba.data(), rgba.size() / 4, 4 * sizeof(float)));
+}
 
 }  // namespace sciray

@@ -56,6 +56,7 @@ public:
                        sizeof(float) +
                    d.indices.size() * sizeof(std::uint32_t);
     keep_alive_ = std::move(owned);
+    note_translucency();
   }
 
   /// Shares the caller's arrays (zero-copy).
@@ -78,6 +79,8 @@ public:
   /// A material colour (OSPRay's `kd`): multiplies the vertex or face colours, or is the
   /// colour where the mesh has none.
   void set_material_color(const Vec3f& color) { material_color_ = color; }
+  /// Whether the colours it shows (vertex colours, else face colours) have alpha below 1.
+  bool translucent_colors() const { return translucent_; }
 
   /// Bytes of mesh data sciray owns (0 for shared arrays, which the caller owns).
   std::size_t owned_bytes() const { return owned_bytes_; }
@@ -152,41 +155,40 @@ public:
     const I prim = simd::select(lanes, hit.prim_id, I(0));
     const auto* index = reinterpret_cast<const std::int32_t*>(a.indices.base);
     const I face = prim * I(static_cast<std::int32_t>(a.indices.byte_stride / sizeof(std::uint32_t)));
-    I i0 = simd::gather<Arch>(index, face), i1 = simd::gather<Arch>(index, face + I(1)),
-      i2 = simd::gather<Arch>(index, face + I(2));
-    F w0 = F(1.f) - hit.u - hit.v, w1 = hit.u, w2 = hit.v;
+    const I i0 = simd::gather<Arch>(index, face), i1 = simd::gather<Arch>(index, face + I(1)),
+            i2 = simd::gather<Arch>(index, face + I(2));
+    // Triangles interpolate with barycentrics; quads, as in OSPRay, bilinearly in the
+    // (u, v) Embree reports over the unit square: (v0, v1, v2, v3) at its corners
+    // (0,0), (1,0), (1,1), (0,1).
+    Corners<Arch> corners{{i0, i1, i2, i0}, {F(1.f) - hit.u - hit.v, hit.u, hit.v, F(0.f)}, 3};
     if (a.vertices_per_face == 4) {
-      // Embree splits quad (v0,v1,v2,v3) into triangles (v0,v1,v3) and (v2,v3,v1), with
-      // the second's barycentrics mirrored so that (u,v) spans the unit square.
-      const I i3 = simd::gather<Arch>(index, face + I(3));
-      const auto first = (hit.u + hit.v) <= F(1.f);
-      const I corner_a = simd::select(first, i0, i2), corner_b = simd::select(first, i1, i3);
-      i2 = simd::select(first, i3, i1);
-      i0 = corner_a, i1 = corner_b;
-      w0 = simd::select(first, w0, hit.u + hit.v - F(1.f));
-      w1 = simd::select(first, w1, F(1.f) - hit.u);
-      w2 = simd::select(first, w2, F(1.f) - hit.v);
+      corners.index[3] = simd::gather<Arch>(index, face + I(3));
+      const F u = hit.u, v = hit.v;
+      corners.weight = {(F(1.f) - u) * (F(1.f) - v), u * (F(1.f) - v), u * v, (F(1.f) - u) * v};
+      corners.count = 4;
     }
     SurfaceSample<Arch> s;
     if (!a.texcoords.empty()) {
-      const auto uv = interpolate<Arch, 2>(a.texcoords, i0, i1, i2, w0, w1, w2);
+      const auto uv = interpolate<Arch, 2>(a.texcoords, corners);
       s.uv = {uv[0], uv[1]};
     }
     if (!a.normals.empty()) {
-      const auto n = interpolate<Arch, 3>(a.normals, i0, i1, i2, w0, w1, w2);
+      const auto n = interpolate<Arch, 3>(a.normals, corners);
       s.normal = normalize(Vec3<F>{n[0], n[1], n[2]});
     } else {
       s.normal = normalize(hit.ng);
     }
     s.has_color = lanes;
     if (!a.vertex_colors.empty()) {
-      const auto c = interpolate<Arch, 3>(a.vertex_colors, i0, i1, i2, w0, w1, w2);
+      const auto c = interpolate<Arch, 4>(a.vertex_colors, corners);
       s.color = {c[0], c[1], c[2]};
+      if (translucent_) s.alpha = c[3];
     } else if (!a.face_colors.empty()) {
       const auto* colors = a.face_colors.data();
       const I at = prim * I(static_cast<std::int32_t>(a.face_colors.byte_stride / sizeof(float)));
       s.color = {simd::gather<Arch>(colors, at), simd::gather<Arch>(colors, at + I(1)),
                  simd::gather<Arch>(colors, at + I(2))};
+      if (translucent_) s.alpha = simd::gather<Arch>(colors, at + I(3));
     } else if (material_color_) {
       s.color = Vec3<F>(*material_color_);
       return s;
@@ -199,22 +201,33 @@ public:
   }
 
 private:
+  /// The vertices a hit interpolates between, and their weights.
+  template <class Arch>
+  struct Corners {
+    std::array<simd::Int<Arch>, 4> index;
+    std::array<simd::Float<Arch>, 4> weight;
+    int count;  ///< 3 for a triangle, 4 for a quad
+  };
+
   template <class Arch, int N>
-  static std::array<simd::Float<Arch>, N> interpolate(const StridedView<float>& view, const simd::Int<Arch>& i0,
-                                                      const simd::Int<Arch>& i1, const simd::Int<Arch>& i2,
-                                                      const simd::Float<Arch>& w0, const simd::Float<Arch>& w1,
-                                                      const simd::Float<Arch>& w2) {
+  static std::array<simd::Float<Arch>, N> interpolate(const StridedView<float>& view, const Corners<Arch>& c) {
     using I = simd::Int<Arch>;
     const I stride(static_cast<std::int32_t>(view.byte_stride / sizeof(float)));
-    const I a = i0 * stride, b = i1 * stride, c = i2 * stride;
     std::array<simd::Float<Arch>, N> out;
-    for (int k = 0; k < N; ++k)
-      out[k] = w0 * simd::gather<Arch>(view.data(), a + I(k)) + w1 * simd::gather<Arch>(view.data(), b + I(k)) +
-               w2 * simd::gather<Arch>(view.data(), c + I(k));
+    for (int k = 0; k < N; ++k) out[k] = simd::Float<Arch>(0.f);
+    for (int j = 0; j < c.count; ++j) {
+      const I at = c.index[static_cast<std::size_t>(j)] * stride;
+      for (int k = 0; k < N; ++k)
+        out[k] = out[k] + c.weight[static_cast<std::size_t>(j)] * simd::gather<Arch>(view.data(), at + I(k));
+    }
     return out;
   }
 
-  explicit TriangleMesh(const SharedArrays& arrays) : arrays_(arrays) {}
+  explicit TriangleMesh(const SharedArrays& arrays) : arrays_(arrays) { note_translucency(); }
+
+  void note_translucency() {
+    translucent_ = translucent(arrays_.vertex_colors.empty() ? arrays_.face_colors : arrays_.vertex_colors);
+  }
 
   template <class T>
   static void check_stride(const char* name, const StridedView<T>& view, std::size_t min_stride) {
@@ -238,6 +251,7 @@ private:
   SharedArrays arrays_;
   std::size_t owned_bytes_ = 0;
   std::optional<Vec3f> material_color_;
+  bool translucent_ = false;
   std::shared_ptr<const void> keep_alive_;
 };
 

@@ -51,6 +51,7 @@ struct ShadingPoint {
   Vec3f ng;  ///< unit geometric normal on the side of wo (dot(ng, wo) > 0)
   bool entering = true;  ///< the ray arrived at the front face: eta is outside -> inside; false: leaving the medium
   Vec3f color{1.f, 1.f, 1.f};  ///< the geometry's own colour; multiplies the material's base colour
+  float alpha = 1.f;           ///< the colour's alpha, which multiplies the material's opacity (as OSPRay)
 };
 
 struct BsdfSample {
@@ -389,12 +390,13 @@ struct Bsdf {
 
 inline void build(Bsdf& b, const ObjMaterial& m, const ShadingPoint& sp) {
   Vec3f kd = m.kd * sp.color, ks = m.ks, tf = m.tf;
+  const float d = m.d * sp.alpha;
   // OSPRay-like energy conservation: the three never add up to more than 1 in a channel.
   const float total = max_component(kd + ks + tf);
   if (total > 1.f) kd = kd / total, ks = ks / total, tf = tf / total;
-  b.add(LobeKind::lambert, kd * m.d, m.d * mean(kd));
-  b.add(LobeKind::phong, ks * m.d, m.d * mean(ks), {}, m.ns);
-  const Vec3f through = splat(1.f - m.d) + tf * m.d;  // cut-out opacity plus the transmissive filter
+  b.add(LobeKind::lambert, kd * d, d * mean(kd));
+  b.add(LobeKind::phong, ks * d, d * mean(ks), {}, m.ns);
+  const Vec3f through = splat(1.f - d) + tf * d;  // cut-out opacity plus the transmissive filter
   b.add(LobeKind::straight, through, mean(through));
 }
 
@@ -415,7 +417,7 @@ inline void add_interface(Bsdf& b, float eta, float specular, float alpha, float
 
 inline void build(Bsdf& b, const PrincipledMaterial& m, const ShadingPoint& sp) {
   const float cos_o = b.wo.z;
-  const float opacity = m.opacity;
+  const float opacity = m.opacity * sp.alpha;
   b.add(LobeKind::straight, splat(1.f - opacity), 1.f - opacity);  // cut-out
   const float alpha = m.roughness * m.roughness;
   const LobeKind reflection = alpha >= min_alpha ? LobeKind::ggx_reflect : LobeKind::mirror;

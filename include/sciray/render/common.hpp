@@ -72,6 +72,7 @@ struct SurfacePoint {
   Vec3f ng;      ///< unit geometric normal, facing the incoming ray
   bool front;    ///< the ray hit the side the geometric normal points to
   Vec3f color;   ///< the geometry's colour, (1,1,1) where it has none
+  float alpha;   ///< the colour's alpha: opacity, with the material's
   bool has_color;
   std::uint32_t material;  ///< index into RendererParams::materials
   TexCoord<float> uv;      ///< texture coordinates, for the material's maps (textured())
@@ -103,6 +104,34 @@ void for_each_hit_group(const accel::Hit<Arch>& hit, const simd::Mask<Arch>& mas
   }
 }
 
+/// Calls f(lanes, material) for the `lanes` of one (instance, geometry) group of `hit`
+/// by material: once, unless the geometry has a material per primitive.
+template <class Arch, class WorldT, class F>
+void for_each_material(const WorldT& world, std::uint32_t inst, std::uint32_t geom, const accel::Hit<Arch>& hit,
+                       const simd::Mask<Arch>& lanes, F&& f) {
+  constexpr int W = simd::width<Arch>;
+  const std::vector<std::uint32_t>* per_primitive = nullptr;
+  if constexpr (requires { world.primitive_materials_of(inst, geom); })
+    per_primitive = world.primitive_materials_of(inst, geom);
+  if (!per_primitive) return f(lanes, world.material_of(inst, geom));
+  alignas(64) std::int32_t prim[W];
+  alignas(64) float material[W];  // exact: indices stay far below 2^24
+  simd::store<Arch>(prim, hit.prim_id);
+  for (int i = 0; i < W; ++i) {
+    const auto p = static_cast<std::size_t>(std::max(prim[i], 0));
+    material[i] = simd::lane(lanes, i) ? static_cast<float>((*per_primitive)[std::min(p, per_primitive->size() - 1)])
+                                       : -1.f;
+  }
+  const simd::Float<Arch> materials = simd::load<Arch>(material);
+  simd::Mask<Arch> remaining = lanes;
+  while (simd::any(remaining)) {
+    const float m = material[first_lane<Arch>(remaining)];
+    const simd::Mask<Arch> same = remaining & (materials == simd::Float<Arch>(m));
+    f(same, static_cast<std::uint32_t>(m));
+    remaining = remaining & !same;
+  }
+}
+
 /// Calls f(lane, SurfacePoint) for every lane of `mask` that `hit` hit, resolving each
 /// (instance, geometry) group of lanes once, as a packet.
 template <class Arch, class WorldT, class F>
@@ -110,6 +139,9 @@ void for_each_surface(const WorldT& world, const Ray<simd::Float<Arch>>& ray, co
                       const simd::Mask<Arch>& mask, F&& f) {
   using Fl = simd::Float<Arch>;
   for_each_hit_group<Arch>(hit, mask, [&](const simd::Mask<Arch>& lanes, std::uint32_t inst, std::uint32_t geom) {
+    const std::vector<std::uint32_t>* per_primitive = nullptr;
+    if constexpr (requires { world.primitive_materials_of(inst, geom); })
+      per_primitive = world.primitive_materials_of(inst, geom);
     const std::uint32_t material = world.material_of(inst, geom);
     world.visit_hit(inst, geom, [&](const auto& geometry, const Affine3f* transform) {
       auto surface = geometry.template surface<Arch>(hit, lanes);
@@ -128,13 +160,18 @@ void for_each_surface(const WorldT& world, const Ray<simd::Float<Arch>>& ray, co
         n = nl > 0.f && std::isfinite(nl) ? n / nl : g;
         s.front = dot(g, dir) < 0.f;
         if (!s.front) g = -g;
-        if (dot(n, dir) > 0.f) n = -n;
+        if (dot(n, g) < 0.f) n = -n;  // the shading normal on the geometric normal's side, as OSPRay
         s.n = n, s.ng = g;
         s.has_color = simd::lane(surface.has_color, i);
         s.color = s.has_color ? Vec3f{simd::lane(surface.color.x, i), simd::lane(surface.color.y, i),
                                       simd::lane(surface.color.z, i)}
                               : splat(1.f);
+        s.alpha = s.has_color ? simd::lane(surface.alpha, i) : 1.f;
         s.material = material;
+        if (per_primitive) {
+          const auto prim = static_cast<std::size_t>(std::max(simd::lane(hit.prim_id, i), 0));
+          s.material = (*per_primitive)[std::min(prim, per_primitive->size() - 1)];
+        }
         s.uv = {simd::lane(surface.uv.u, i), simd::lane(surface.uv.v, i)};
         f(i, s);
       }

@@ -478,14 +478,15 @@ inline bool at_infinity(const Light& light) {
 }
 
 /// The lights the scivis renderer used before lights were configurable, and what a scene
-/// without lights gets: white ambient light of 0.2 and a distant light of 0.8 travelling
+/// without lights gets: white ambient light of 0.2 and a distant light of irradiance 0.8π travelling
 /// along `direction`.
 inline std::vector<Light> default_lights(Vec3f direction = {0.f, 0.f, -1.f}) {
   AmbientLight ambient;
   ambient.intensity = 0.2f;
   DistantLight distant;
   distant.direction = direction;
-  distant.intensity = 0.8f;
+  // Irradiance 0.8π: a white Lambertian surface facing it reflects radiance 0.8.
+  distant.intensity = 0.8f * std::numbers::pi_v<float>;
   return {ambient, distant};
 }
 

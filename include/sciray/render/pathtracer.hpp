@@ -137,7 +137,7 @@ public:
           continue;
         }
         const SurfacePoint& s = v.surface;
-        p.sp = {s.n, s.ng, s.front, s.color};
+        p.sp = {s.n, s.ng, s.front, s.color, s.alpha};
         p.p = s.p;
         p.material = &textured(material(s), s.uv, p.textured_material);
         const Material& m = *p.material;

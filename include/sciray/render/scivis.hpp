@@ -4,9 +4,11 @@
 //
 // scivis: kd (times the geometry's colour) lit by every light: ambient lights scaled by
 // the unoccluded fraction of `aoSamples` cosine-weighted rays within `aoDistance`;
-// other lights with a Lambertian term plus Blinn-Phong `ks`/`ns`, hard shadows for
-// lights without size and soft ones (one sample per pixel sample) for lights with size
-// when `shadows` is set. Surfaces with opacity `d` < 1 or a transmissive filter `tf` let
+// other lights with OSPRay's normalized BRDF — Lambertian kd/π plus Blinn-Phong `ks` of
+// exponent 4 `ns` — so that a white surface facing a distant light of irradiance 1 shows
+// 1/π, as in OSPRay and the path tracer; each light is sampled once, where OSPRay's scivis
+// samples it (the centre of a disk, sphere or cone, a quad light's `position` corner),
+// so shadows are hard when `shadows` is set — soft shadows are the path tracer's. Surfaces with opacity `d` < 1 or a transmissive filter `tf` let
 // the ray continue, up to `maxPathLength` surfaces; shadows are tinted by them too.
 // Volumes are integrated on the same rays, between surfaces.
 //
@@ -20,6 +22,7 @@
 #include <cmath>
 #include <limits>
 #include <new>
+#include <numbers>
 #include <type_traits>
 
 #include "sciray/render/common.hpp"
@@ -48,6 +51,14 @@ simd::Float<Arch> pow(const simd::Float<Arch>& x, const simd::Float<Arch>& e) {
     return std::pow(x, e);
   else
     return xsimd::pow(x, e);
+}
+
+template <class Arch>
+simd::Float<Arch> exp(const simd::Float<Arch>& x) {
+  if constexpr (std::is_same_v<Arch, simd::scalar>)
+    return std::exp(x);
+  else
+    return xsimd::exp(x);
 }
 
 /// Whether `m` has a map that changes its opacity (obj map_d, principled map_opacity).
@@ -80,6 +91,8 @@ public:
       const ObjMaterial& o = surfaces_.back();
       if (o.d < 1.f || o.tf.x > 0.f || o.tf.y > 0.f || o.tf.z > 0.f || opacity_mapped_.back()) any_transparent_ = true;
     }
+    // Colours with alpha below 1 are translucent too.
+    if constexpr (requires { world.translucent_colors(); }) any_transparent_ = any_transparent_ || world.translucent_colors();
     for (const Light& l : params_.lights) {
       if (const auto* h = std::get_if<HdriLight>(&l); h && h->visible && !environment_) environment_ = h;
       if (const auto* a = std::get_if<AmbientLight>(&l))
@@ -88,12 +101,8 @@ public:
         direct_lights_.push_back(&l);
     }
     if constexpr (is_ao) ambient_ = splat(params_.ao_intensity);
-    // Lights with size and AO rays draw random numbers; point-like distant lights do not.
+    // Only AO rays draw random numbers: every light is sampled at one fixed point.
     needs_random_ = params_.ao_samples > 0;
-    for (const Light* l : direct_lights_) {
-      const auto* distant = std::get_if<DistantLight>(l);
-      if (!distant || distant->angular_diameter > 0.f) needs_random_ = true;
-    }
     const Box3f b = world.bounds();
     scene_size_ = b.empty() ? 1.f : length(b.size());
   }
@@ -188,14 +197,15 @@ private:
         auto surface = geometry.template surface<Arch>(hit, lanes);
         Vec3<F> ng = hit.ng;
         if (transform) surface.normal = normalize(transform->normal(surface.normal)), ng = transform->normal(ng);
-        const std::uint32_t material = world_->material_of(inst, geom);
-        const Shaded shaded = shade(ray, hit.t, surface, normalize(ng), lanes, material, rng);
-        color = color + select(lanes, transmittance * shaded.color, Vec3<F>(splat(0.f)));
-        pass = select(lanes, shaded.pass, pass);
-        if (first) {
-          out.normal = select(lanes, shaded.normal, out.normal);
-          out.albedo = select(lanes, shaded.albedo, out.albedo);
-        }
+        for_each_material<Arch>(*world_, inst, geom, hit, lanes, [&](const M& group, std::uint32_t material) {
+          const Shaded shaded = shade(ray, hit.t, surface, normalize(ng), group, material, rng);
+          color = color + select(group, transmittance * shaded.color, Vec3<F>(splat(0.f)));
+          pass = select(group, shaded.pass, pass);
+          if (first) {
+            out.normal = select(group, shaded.normal, out.normal);
+            out.albedo = select(group, shaded.albedo, out.albedo);
+          }
+        });
       });
     });
   }
@@ -247,10 +257,12 @@ private:
     static const ObjMaterial default_surface;
     const bool has_material = material != no_material;
     const ObjMaterial& m = has_material ? surfaces_[material] : default_surface;
-    const ObjLanes o = obj_lanes(m, material, s.uv, lanes);
-    // Both sides of a surface are lit: face the normals towards the viewer.
-    const Vec3<F> n = select(dot(s.normal, ray.dir) > F(0.f), -s.normal, s.normal);
-    const Vec3<F> ng = select(dot(ng_raw, ray.dir) > F(0.f), -ng_raw, ng_raw);
+    ObjLanes o = obj_lanes(m, material, s.uv, lanes);
+    o.d = o.d * s.alpha;  // the colour's alpha is opacity too, as in OSPRay
+    // Both sides of a surface are lit: the geometric normal faces the viewer and, as in
+    // OSPRay, the shading normal lies on its side.
+    const Vec3<F> ng = select(dot(ng_raw, ray.dir) >= F(0.f), -ng_raw, ng_raw);
+    const Vec3<F> n = select(dot(s.normal, ng) < F(0.f), -s.normal, s.normal);
     // Without a material, a geometry shows its own colours (the default kd where none).
     const Vec3<F> geometry_color = select(s.has_color, s.color, Vec3<F>(has_material ? splat(1.f) : m.kd));
     const Vec3<F> kd = has_material ? geometry_color * o.kd : geometry_color;
@@ -271,19 +283,26 @@ private:
     lit = lit * kd;
     if constexpr (!is_ao) {
       const bool specular = m.ks.x > 0.f || m.ks.y > 0.f || m.ks.z > 0.f;
+      // OSPRay's normalized BRDF: Lambertian kd/π, and ks with the Phong exponent ns as a
+      // Blinn exponent 4 ns under its energy normalization.
+      const Vec3<F> diffuse = kd * F(1.f / pi);
+      const F shininess = o.ns * F(4.f);
+      const Vec3<F> glossy = specular ? o.ks * ((shininess + F(2.f)) * F(1.f / (4.f * pi)) /
+                                                (F(2.f) - exp<Arch>(shininess * F(-0.5f * std::numbers::ln2_v<float>))))
+                                      : Vec3<F>(splat(0.f));
       for (const Light* light : direct_lights_) {
         Vec3<F> wi, weight;
         F dist;
-        if (!sample_light(*light, p, n, lanes, rng, wi, weight, dist)) continue;
+        if (!sample_light(*light, p, n, lanes, wi, weight, dist)) continue;
         const F cos_theta = dot(n, wi);
         // With shadows, light from below the geometric surface is blocked by the surface itself.
         M lit_lanes = lanes & (cos_theta > F(0.f));
         if (params_.shadows) lit_lanes = lit_lanes & (dot(ng, wi) > F(0.f));
         if (!simd::any(lit_lanes)) continue;
-        Vec3<F> response = kd * cos_theta;
+        Vec3<F> response = diffuse * cos_theta;
         if (specular) {
           const Vec3<F> h = normalize(wi - ray.dir);
-          response = response + o.ks * pow<Arch>(simd::max(dot(n, h), F(0.f)), o.ns);
+          response = response + glossy * pow<Arch>(simd::max(dot(n, h), F(0.f)), shininess);
         }
         Vec3<F> arriving = weight;
         if (params_.shadows) arriving = arriving * shadow_transmittance(org, wi, dist, lit_lanes);
@@ -295,7 +314,7 @@ private:
   }
 
   /// Per-lane light samples gathered into packets; false where no lane gets light.
-  bool sample_light(const Light& light, const Vec3<F>& p, const Vec3<F>& n, const M& lanes, PixelRandom* rng,
+  bool sample_light(const Light& light, const Vec3<F>& p, const Vec3<F>& n, const M& lanes,
                     Vec3<F>& wi, Vec3<F>& weight, F& dist) const {
     if (const auto* d = std::get_if<DistantLight>(&light); d && d->angular_diameter <= 0.f) {
       wi = Vec3<F>(-normalize(d->direction));
@@ -309,10 +328,9 @@ private:
       v[6][i] = 0.f;
       for (int c = 0; c < 6; ++c) v[c][i] = 0.f;
       if (!simd::lane(lanes, i)) continue;
-      const auto u = rng[i].next_2d();
       const Vec3f pi{simd::lane(p.x, i), simd::lane(p.y, i), simd::lane(p.z, i)};
       const Vec3f ni{simd::lane(n.x, i), simd::lane(n.y, i), simd::lane(n.z, i)};
-      const auto s = sample(light, pi, ni, u.u, u.v);
+      const auto s = sample(light, pi, ni, 0.f, 0.f);  // OSPRay's scivis sample point
       if (!s) continue;
       any = true;
       const float values[7] = {s->dir.x, s->dir.y, s->dir.z, s->weight.x, s->weight.y, s->weight.z, s->dist};
@@ -365,21 +383,24 @@ private:
     for (int depth = 0; simd::any(live) && depth <= params_.max_path_length; ++depth) {
       const auto hit = accel::intersect<Arch>(world_->scene(), ray, live, false, world_->hit_filter());
       const M blocked = live & hit.hit;
-      for_each_hit_group<Arch>(hit, blocked, [&](const M& group, std::uint32_t inst, std::uint32_t geom) {
-        const std::uint32_t material = world_->material_of(inst, geom);
-        if (material == no_material) {
-          through = select(group, Vec3<F>(splat(0.f)), through);
-          return;
-        }
-        const ObjMaterial& m = surfaces_[material];
-        if (!opacity_mapped_[material]) {
-          through = select(group, through * Vec3<F>(splat(1.f - m.d) + m.tf * m.d), through);
-          return;
-        }
-        // A map cuts the surface out lane by lane: it needs the hits' texture coordinates.
-        world_->visit_hit(inst, geom, [&](const auto& geometry, const Affine3f*) {
-          const auto surface = geometry.template surface<Arch>(hit, group);
-          through = select(group, through * passing(obj_lanes(m, material, surface.uv, group)), through);
+      for_each_hit_group<Arch>(hit, blocked, [&](const M& hits, std::uint32_t inst, std::uint32_t geom) {
+        for_each_material<Arch>(*world_, inst, geom, hit, hits, [&](const M& group, std::uint32_t material) {
+          static const ObjMaterial opaque_surface;
+          const ObjMaterial& m = material == no_material ? opaque_surface : surfaces_[material];
+          world_->visit_hit(inst, geom, [&](const auto& geometry, const Affine3f*) {
+            bool translucent = false;
+            if constexpr (requires { geometry.translucent_colors(); }) translucent = geometry.translucent_colors();
+            if (!translucent && (material == no_material || !opacity_mapped_[material])) {
+              through = select(group, through * Vec3<F>(splat(1.f - m.d) + m.tf * m.d), through);
+              return;
+            }
+            // A map cuts the surface out, and colours' alpha thins it, lane by lane: that
+            // needs the hits' texture coordinates and colours.
+            const auto surface = geometry.template surface<Arch>(hit, group);
+            ObjLanes o = obj_lanes(m, material, surface.uv, group);
+            o.d = o.d * surface.alpha;
+            through = select(group, through * passing(o), through);
+          });
         });
       });
       const F left = simd::max(simd::max(through.x, through.y), through.z);

@@ -53,9 +53,18 @@ public:
   /// Takes effect at commit.
   template <class G>
   std::uint32_t add(G geometry, std::uint32_t material = no_material) {
+    return add(std::move(geometry), material, {});
+  }
+  /// add() with a material per primitive (OSPRay's material lists): primitive p is shaded
+  /// with entry primitive_materials[p]; empty for `material` on all.
+  template <class G>
+  std::uint32_t add(G geometry, std::uint32_t material, std::vector<std::uint32_t> primitive_materials) {
     static_assert((std::is_same_v<G, Geometries> || ...), "the group was not composed with this geometry type");
     auto& list = std::get<std::deque<G>>(geometries_);
-    refs_.push_back({type_index<G>(), static_cast<std::uint32_t>(list.size()), material});
+    std::shared_ptr<const std::vector<std::uint32_t>> per_primitive;
+    if (!primitive_materials.empty())
+      per_primitive = std::make_shared<const std::vector<std::uint32_t>>(std::move(primitive_materials));
+    refs_.push_back({type_index<G>(), static_cast<std::uint32_t>(list.size()), material, std::move(per_primitive)});
     list.push_back(std::move(geometry));
     committed_ = false;
     return static_cast<std::uint32_t>(refs_.size() - 1);
@@ -98,12 +107,30 @@ public:
 
   /// The material index geometry `id` was added with.
   std::uint32_t material(std::uint32_t id) const { return refs_.at(id).material; }
+  /// Geometry `id`'s material per primitive, or null where it has one for all.
+  const std::vector<std::uint32_t>* primitive_materials(std::uint32_t id) const {
+    return refs_.at(id).primitive_materials.get();
+  }
   /// How many materials the geometries need: one more than the largest index used.
   std::uint32_t materials_needed() const {
     std::uint32_t n = 0;
-    for (const Ref& r : refs_)
-      if (r.material != no_material) n = std::max(n, r.material + 1);
+    const auto use = [&](std::uint32_t m) {
+      if (m != no_material) n = std::max(n, m + 1);
+    };
+    for (const Ref& r : refs_) {
+      use(r.material);
+      if (r.primitive_materials)
+        for (std::uint32_t m : *r.primitive_materials) use(m);
+    }
     return n;
+  }
+
+  /// Whether any geometry shows colours with alpha below 1, which renderers take as
+  /// opacity (so that shadow rays look at what they pass).
+  bool translucent_colors() const {
+    bool any = false;
+    std::apply([&](const auto&... lists) { ((any = any || translucent_colors(lists)), ...); }, geometries_);
+    return any;
   }
 
   template <class G>
@@ -152,6 +179,7 @@ private:
     std::uint8_t type;
     std::uint32_t index;
     std::uint32_t material;
+    std::shared_ptr<const std::vector<std::uint32_t>> primitive_materials;
   };
 
   template <class G, std::size_t I = 0>
@@ -172,6 +200,14 @@ private:
       if (ref.type == I) return f(std::get<std::deque<G>>(geometries_)[ref.index]);
       return visit_type<I + 1>(ref, std::forward<F>(f));
     }
+  }
+
+  template <class G>
+  static bool translucent_colors(const std::deque<G>& list) {
+    if constexpr (requires(const G& g) { g.translucent_colors(); })
+      for (const auto& g : list)
+        if (g.translucent_colors()) return true;
+    return false;
   }
 
   template <class G>
@@ -273,12 +309,31 @@ public:
     if (inst_id == RTC_INVALID_GEOMETRY_ID) return this->material(geom_id);
     return instances_[inst_id - this->geometry_count()].group->material(geom_id);
   }
+  /// That geometry's material per primitive, or null where it has one for all.
+  const std::vector<std::uint32_t>* primitive_materials_of(std::uint32_t inst_id, std::uint32_t geom_id) const {
+    if (inst_id == RTC_INVALID_GEOMETRY_ID) return this->primitive_materials(geom_id);
+    return instances_[inst_id - this->geometry_count()].group->primitive_materials(geom_id);
+  }
+  /// The material of primitive `prim_id` of that geometry.
+  std::uint32_t material_of(std::uint32_t inst_id, std::uint32_t geom_id, std::uint32_t prim_id) const {
+    if (const auto* per_primitive = primitive_materials_of(inst_id, geom_id))
+      return (*per_primitive)[std::min<std::size_t>(prim_id, per_primitive->size() - 1)];
+    return material_of(inst_id, geom_id);
+  }
 
   /// How many materials the geometries, direct or instanced, need.
   std::uint32_t materials_needed() const {
     std::uint32_t n = GroupType::materials_needed();
     for (const Instance& instance : instances_) n = std::max(n, instance.group->materials_needed());
     return n;
+  }
+
+  /// Whether any geometry, direct or instanced, shows translucent colours.
+  bool translucent_colors() const {
+    if (GroupType::translucent_colors()) return true;
+    for (const Instance& instance : instances_)
+      if (instance.group->translucent_colors()) return true;
+    return false;
   }
 
   /// Bytes of geometry data sciray owns (each group once, however often instanced), plus
