@@ -1,14 +1,19 @@
 # Installs the build tree into a scratch prefix, then configures, builds and runs
-# tests/consumer against it with only CMAKE_PREFIX_PATH pointing there.
+# tests/consumer against it with only CMAKE_PREFIX_PATH pointing there; then runs the
+# installed tool from that prefix and from a copy elsewhere, with no library path set.
 set(prefix ${BUILD_DIR}/install-test/prefix)
 set(consumer_build ${BUILD_DIR}/install-test/consumer)
 file(REMOVE_RECURSE ${BUILD_DIR}/install-test)
 
+# Runs a command in an environment without LD_LIBRARY_PATH (nor a preloaded library), so
+# that a program finds its libraries only through its own RPATH or the system's paths.
 function(run)
-  execute_process(COMMAND ${ARGV} RESULT_VARIABLE result)
+  execute_process(COMMAND ${CMAKE_COMMAND} -E env --unset=LD_LIBRARY_PATH --unset=LD_PRELOAD ${ARGV}
+                  RESULT_VARIABLE result OUTPUT_VARIABLE output ERROR_VARIABLE output)
   if(NOT result EQUAL 0)
-    message(FATAL_ERROR "failed (${result}): ${ARGV}")
+    message(FATAL_ERROR "failed (${result}): ${ARGV}\n${output}")
   endif()
+  set(run_output "${output}" PARENT_SCOPE)
 endfunction()
 
 run(${CMAKE_COMMAND} --install ${BUILD_DIR} --prefix ${prefix})
@@ -33,4 +38,14 @@ run(${ospray_build}/ospray_tutorial ${ospray_build}/tutorial.png)
 if(NOT EXISTS ${ospray_build}/tutorial.png)
   message(FATAL_ERROR "the OSPRay application wrote no image")
 endif()
+
+# The installed tool loads the installed shim wherever the prefix lies.
+set(moved ${BUILD_DIR}/install-test/moved/prefix)
+file(COPY ${prefix} DESTINATION ${BUILD_DIR}/install-test/moved)
+foreach(root ${prefix} ${moved})
+  run(${root}/bin/sciray info)
+  if(NOT run_output MATCHES "chosen: ")
+    message(FATAL_ERROR "${root}/bin/sciray info printed no chosen ISA:\n${run_output}")
+  endif()
+endforeach()
 message(STATUS "installed package builds and runs")

@@ -11,6 +11,11 @@ OSPData ospNewSharedData1D(const void *sharedData, OSPDataType type, uint64_t nu
   return ospNewSharedData(sharedData, type, numItems, 0, 1, 0, 1, 0);
 }
 
+OSPData ospNewAssignedData1D(const void *sharedData, OSPDataType type, uint64_t numItems, OSPDeleterCallback deleter,
+                             const void *userPtr) {
+  return ospNewSharedData(sharedData, type, numItems, 0, 1, 0, 1, 0, deleter, userPtr);
+}
+
 OSPData ospNewSharedData1DStride(const void *sharedData, OSPDataType type, uint64_t numItems,
                                  int64_t byteStride) {
   return ospNewSharedData(sharedData, type, numItems, byteStride, 1, 0, 1, 0);
@@ -65,6 +70,21 @@ void ospSetFloat(OSPObject o, const char *id, float x) { ospSetParam(o, id, OSP_
 void ospSetInt(OSPObject o, const char *id, int x) {
   const int32_t v = x;
   ospSetParam(o, id, OSP_INT, &v);
+}
+
+void ospSetUInt(OSPObject o, const char *id, unsigned int x) {
+  const uint32_t v = x;
+  ospSetParam(o, id, OSP_UINT, &v);
+}
+
+void ospSetBox1f(OSPObject o, const char *id, float x, float y) {
+  const float v[2] = {x, y};
+  ospSetParam(o, id, OSP_BOX1F, v);
+}
+
+void ospSetLinear2f(OSPObject o, const char *id, float x, float y, float z, float w) {
+  const float v[4] = {x, y, z, w};
+  ospSetParam(o, id, OSP_LINEAR2F, v);
 }
 
 void ospSetVec2f(OSPObject o, const char *id, float x, float y) {

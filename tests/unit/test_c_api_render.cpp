@@ -272,7 +272,7 @@ TEST_CASE("bad lights, materials, textures and renderer parameters are named", "
   ospRelease(data);
   ospSetInt(texture, "format", OSP_TEXTURE_RGB8);
   ospCommit(texture);
-  api.expect_error("texture2d texture: parameter 'data' holds float elements but 'format' 3 needs OSP_VEC3UC");
+  api.expect_error("texture2d texture: parameter 'data' holds float elements but 'format' OSP_TEXTURE_RGB8 needs vec3uc");
   CHECK(api.messages.errors == std::vector<std::string>{});
   ospSetInt(texture, "format", OSP_TEXTURE_R32F);
   ospCommit(texture);

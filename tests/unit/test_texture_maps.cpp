@@ -670,7 +670,7 @@ TEST_CASE("C API: bad texcoords and bad maps are named", "[c_api][texture_maps][
   ospSetObject(obj, "map_d", image);
   ospSetFloat(obj, "map_d.transform", 2.f);
   ospCommit(obj);
-  api.expect_error("obj material: parameter 'map_d.transform' must be an affine2f, got float");
+  api.expect_error("obj material: parameter 'map_d.transform' must be an affine2f or a linear2f, got float");
   ospRemoveParam(obj, "map_d.transform");
   ospSetVec2f(obj, "map_d.scale", 0.f, 1.f);
   ospCommit(obj);

@@ -148,6 +148,11 @@ typedef enum SCIRAY_OSP_ENUM(uint32_t) {
   OSP_TEXTURE_RGB16,
   OSP_TEXTURE_RA16,
   OSP_TEXTURE_R16,
+  OSP_TEXTURE_RGBA16F, /* IEEE 754 binary16 channels */
+  OSP_TEXTURE_RGB16F,
+  OSP_TEXTURE_RA16F,
+  OSP_TEXTURE_R16F,
+  OSP_TEXTURE_RA32F,
   OSP_TEXTURE_FORMAT_INVALID = 255
 } OSPTextureFormat;
 
@@ -211,7 +216,7 @@ typedef enum SCIRAY_OSP_ENUM(uint8_t) {
   OSP_UNKNOWN_CELL_TYPE = 255
 } OSPUnstructuredCellType;
 
-typedef enum SCIRAY_OSP_ENUM(uint8_t) {
+typedef enum SCIRAY_OSP_ENUM(uint32_t) {
   OSP_STEREO_NONE,
   OSP_STEREO_LEFT,
   OSP_STEREO_RIGHT,
@@ -220,7 +225,7 @@ typedef enum SCIRAY_OSP_ENUM(uint8_t) {
   OSP_STEREO_UNKNOWN = 255
 } OSPStereoMode;
 
-typedef enum SCIRAY_OSP_ENUM(uint8_t) {
+typedef enum SCIRAY_OSP_ENUM(uint32_t) {
   OSP_ROUND,
   OSP_FLAT,
   OSP_RIBBON,
@@ -228,7 +233,7 @@ typedef enum SCIRAY_OSP_ENUM(uint8_t) {
   OSP_UNKNOWN_CURVE_TYPE = 255
 } OSPCurveType;
 
-typedef enum SCIRAY_OSP_ENUM(uint8_t) {
+typedef enum SCIRAY_OSP_ENUM(uint32_t) {
   OSP_LINEAR,
   OSP_BEZIER,
   OSP_BSPLINE,
@@ -237,20 +242,26 @@ typedef enum SCIRAY_OSP_ENUM(uint8_t) {
   OSP_UNKNOWN_CURVE_BASIS = 255
 } OSPCurveBasis;
 
-typedef enum SCIRAY_OSP_ENUM(uint8_t) {
-  OSP_SPHERE,
-  OSP_DISC,
-  OSP_ORIENTED_DISC,
+typedef enum SCIRAY_OSP_ENUM(uint32_t) {
+  OSP_SPHERE = 50,
+  OSP_DISC = 51,
+  OSP_ORIENTED_DISC = 52,
   OSP_UNKNOWN_SPHERE_TYPE = 255
 } OSPSphereType;
 
-typedef enum SCIRAY_OSP_ENUM(uint8_t) {
+typedef enum SCIRAY_OSP_ENUM(uint32_t) {
   OSP_VOLUME_FILTER_NEAREST = 0,
   OSP_VOLUME_FILTER_LINEAR = 100,
   OSP_VOLUME_FILTER_CUBIC = 200
 } OSPVolumeFilter;
 
-typedef enum SCIRAY_OSP_ENUM(uint8_t) {
+/* Layouts of the nodes of OSPRay's 'vdb' volume ('node.format'). */
+typedef enum SCIRAY_OSP_ENUM(uint32_t) {
+  OSP_VOLUME_FORMAT_TILE = 0,
+  OSP_VOLUME_FORMAT_DENSE_ZYX
+} OSPVolumeFormat;
+
+typedef enum SCIRAY_OSP_ENUM(uint32_t) {
   OSP_SUBDIVISION_NO_BOUNDARY,
   OSP_SUBDIVISION_SMOOTH_BOUNDARY,
   OSP_SUBDIVISION_PIN_CORNERS,
@@ -258,13 +269,13 @@ typedef enum SCIRAY_OSP_ENUM(uint8_t) {
   OSP_SUBDIVISION_PIN_ALL
 } OSPSubdivisionMode;
 
-typedef enum SCIRAY_OSP_ENUM(uint8_t) {
+typedef enum SCIRAY_OSP_ENUM(uint32_t) {
   OSP_AMR_CURRENT,
   OSP_AMR_FINEST,
   OSP_AMR_OCTANT
 } OSPAMRMethod;
 
-typedef enum SCIRAY_OSP_ENUM(uint8_t) {
+typedef enum SCIRAY_OSP_ENUM(uint32_t) {
   OSP_PIXELFILTER_POINT,
   OSP_PIXELFILTER_BOX,
   OSP_PIXELFILTER_GAUSS,
@@ -272,7 +283,7 @@ typedef enum SCIRAY_OSP_ENUM(uint8_t) {
   OSP_PIXELFILTER_BLACKMAN_HARRIS
 } OSPPixelFilterType;
 
-typedef enum SCIRAY_OSP_ENUM(uint8_t) {
+typedef enum SCIRAY_OSP_ENUM(uint32_t) {
   OSP_INTENSITY_QUANTITY_RADIANCE,
   OSP_INTENSITY_QUANTITY_IRRADIANCE,
   OSP_INTENSITY_QUANTITY_INTENSITY,
@@ -281,7 +292,7 @@ typedef enum SCIRAY_OSP_ENUM(uint8_t) {
   OSP_INTENSITY_QUANTITY_UNKNOWN
 } OSPIntensityQuantity;
 
-typedef enum SCIRAY_OSP_ENUM(uint8_t) {
+typedef enum SCIRAY_OSP_ENUM(uint32_t) {
   OSP_SHUTTER_GLOBAL,
   OSP_SHUTTER_ROLLING_RIGHT,
   OSP_SHUTTER_ROLLING_LEFT,
@@ -289,3 +300,10 @@ typedef enum SCIRAY_OSP_ENUM(uint8_t) {
   OSP_SHUTTER_ROLLING_UP,
   OSP_SHUTTER_UNKNOWN = 255
 } OSPShutterType;
+
+/* Quality levels of OSPRay's 'denoiser' image operation ('quality'). */
+typedef enum SCIRAY_OSP_ENUM(uint32_t) {
+  OSP_DENOISER_QUALITY_LOW = 4,
+  OSP_DENOISER_QUALITY_MEDIUM = 5,
+  OSP_DENOISER_QUALITY_HIGH = 6
+} OSPDenoiserQuality;

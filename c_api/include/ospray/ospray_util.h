@@ -10,6 +10,9 @@ extern "C" {
 
 /* Data arrays */
 OSPRAY_INTERFACE OSPData ospNewSharedData1D(const void *sharedData, OSPDataType, uint64_t numItems);
+/* Shared data whose deleter is called with userPtr and sharedData once the array is released. */
+OSPRAY_INTERFACE OSPData ospNewAssignedData1D(const void *sharedData, OSPDataType, uint64_t numItems,
+                                              OSPDeleterCallback, const void *userPtr);
 OSPRAY_INTERFACE OSPData ospNewSharedData1DStride(const void *sharedData, OSPDataType, uint64_t numItems,
                                                   int64_t byteStride);
 OSPRAY_INTERFACE OSPData ospNewSharedData2D(const void *sharedData, OSPDataType, uint64_t numItems1,
@@ -30,6 +33,11 @@ OSPRAY_INTERFACE void ospSetObject(OSPObject, const char *id, OSPObject other);
 OSPRAY_INTERFACE void ospSetBool(OSPObject, const char *id, int x);
 OSPRAY_INTERFACE void ospSetFloat(OSPObject, const char *id, float x);
 OSPRAY_INTERFACE void ospSetInt(OSPObject, const char *id, int x);
+OSPRAY_INTERFACE void ospSetUInt(OSPObject, const char *id, unsigned int x);
+/* A range [x, y] as box1f. */
+OSPRAY_INTERFACE void ospSetBox1f(OSPObject, const char *id, float x, float y);
+/* A 2x2 matrix as linear2f: columns (x, y) and (z, w). */
+OSPRAY_INTERFACE void ospSetLinear2f(OSPObject, const char *id, float x, float y, float z, float w);
 OSPRAY_INTERFACE void ospSetVec2f(OSPObject, const char *id, float x, float y);
 OSPRAY_INTERFACE void ospSetVec3f(OSPObject, const char *id, float x, float y, float z);
 OSPRAY_INTERFACE void ospSetVec4f(OSPObject, const char *id, float x, float y, float z, float w);

@@ -101,8 +101,9 @@ extern "C" {
 OSPError ospInit(int* argc, const char** argv) {
   return guarded("ospInit", [&] {
     auto d = std::make_unique<Device>();
-    int kept = argc ? 1 : 0;
-    for (int i = 1; argc && argv && i < *argc; ++i) {
+    const bool have_args = argc && argv && *argc > 0;
+    int kept = 1;  // argv[0], the program
+    for (int i = 1; have_args && i < *argc; ++i) {
       const std::string arg = argv[i] ? argv[i] : "";
       if (arg.rfind("--osp:", 0) != 0) {
         argv[kept++] = argv[i];
@@ -133,10 +134,9 @@ OSPError ospInit(int* argc, const char** argv) {
         throw Error("unknown option " + arg);
       }
     }
-    if (argc) {
-      *argc = kept;
-      if (argv) argv[kept] = nullptr;
-    }
+    // Only argv[0 .. *argc-1] belongs to ospInit (OSPRay's contract): the application's
+    // argv may be longer, or hold no NULL after the arguments, so nothing past them is written.
+    if (have_args) *argc = kept;
     d->commit();
     if (current_device && current_device->release()) delete current_device;
     current_device = d.release();

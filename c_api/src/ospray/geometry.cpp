@@ -126,8 +126,8 @@ void Geometry::commit_spheres() {
   if (!position) throw Error(name() + ": required parameter 'sphere.position' (array of vec3f) is missing");
   const Data* radius = get_data(*this, find("sphere.radius"), "sphere.radius", {OSP_FLOAT});
   const Data* texcoord = get_data(*this, find("sphere.texcoord"), "sphere.texcoord", {OSP_VEC2F});
-  const auto type = static_cast<SphereType>(
-      get_enum(*this, get_int("type", OSP_SPHERE), "type", {"OSP_SPHERE", "OSP_DISC", "OSP_ORIENTED_DISC"}));
+  const auto type = static_cast<SphereType>(get_enum(*this, get_int("type", OSP_SPHERE), "type",
+                                                     {"OSP_SPHERE", "OSP_DISC", "OSP_ORIENTED_DISC"}, OSP_SPHERE));
   // Normals orient discs only; otherwise the parameter is reported as unused.
   const Data* normal = type == SphereType::oriented_disc
                            ? get_data(*this, find("sphere.normal"), "sphere.normal", {OSP_VEC3F})

@@ -2,7 +2,9 @@
 #include "scene_common.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <string>
 #include <type_traits>
@@ -46,9 +48,15 @@ void Material::on_commit() {
     };
     TexCoordTransform transform;
     if (const Param* p = find(map + ".transform")) {
-      if (p->type != OSP_AFFINE2F)
-        throw Error(name() + ": parameter '" + map + ".transform' must be an affine2f, got " + type_name(p->type));
-      std::memcpy(&transform, p->bytes.data(), sizeof transform);  // vx, vy, p: as OSPRay's affine2f
+      if (p->type == OSP_AFFINE2F) {
+        std::memcpy(&transform, p->bytes.data(), sizeof transform);  // vx, vy, p: as OSPRay's affine2f
+      } else if (p->type == OSP_LINEAR2F) {  // vx, vy: no translation
+        std::memcpy(&transform.vx, p->bytes.data(), sizeof transform.vx);
+        std::memcpy(&transform.vy, p->bytes.data() + sizeof transform.vx, sizeof transform.vy);
+      } else {
+        throw Error(name() + ": parameter '" + map + ".transform' must be an affine2f or a linear2f, got " +
+                    type_name(p->type));
+      }
     } else if (has(map + ".rotation") || has(map + ".scale") || has(map + ".translation")) {
       const TexCoord<float> scale = vec2(map + ".scale", {1.f, 1.f});
       if (!(scale.u != 0.f && scale.v != 0.f))
@@ -92,6 +100,79 @@ std::uint64_t Material::version() const {
   return v;
 }
 
+namespace {
+
+/// An IEEE 754 binary16 value (OSPRay's half texels) as a float: exact for every half.
+float half_to_float(std::uint16_t h) {
+  const std::uint32_t sign = static_cast<std::uint32_t>(h & 0x8000u) << 16;
+  const std::uint32_t exponent = (h >> 10) & 0x1fu, mantissa = h & 0x3ffu;
+  if (exponent == 0) {  // zero or subnormal: mantissa * 2^-24
+    const float magnitude = std::ldexp(static_cast<float>(mantissa), -24);
+    return sign ? -magnitude : magnitude;
+  }
+  if (exponent == 31) return std::bit_cast<float>(sign | 0x7f800000u | (mantissa << 13));  // inf, NaN
+  return std::bit_cast<float>(sign | ((exponent + 127 - 15) << 23) | (mantissa << 13));
+}
+
+enum class Channel { unorm8, unorm16, half, float32 };
+
+/// How a texel of an OSPTextureFormat is stored: `channels` values of one kind, in an
+/// array of `type` (half formats also as OSPRay's OSP_HALF types).
+struct TexelLayout {
+  int format;
+  const char* format_name;
+  int channels;
+  Channel channel;
+  bool srgb;
+  OSPDataType type, half_type;
+};
+
+// clang-format off
+constexpr TexelLayout texel_layouts[] = {
+    {OSP_TEXTURE_RGBA8, "RGBA8", 4, Channel::unorm8, false, OSP_VEC4UC, OSP_UNKNOWN},
+    {OSP_TEXTURE_SRGBA, "SRGBA", 4, Channel::unorm8, true, OSP_VEC4UC, OSP_UNKNOWN},
+    {OSP_TEXTURE_RGBA32F, "RGBA32F", 4, Channel::float32, false, OSP_VEC4F, OSP_UNKNOWN},
+    {OSP_TEXTURE_RGB8, "RGB8", 3, Channel::unorm8, false, OSP_VEC3UC, OSP_UNKNOWN},
+    {OSP_TEXTURE_SRGB, "SRGB", 3, Channel::unorm8, true, OSP_VEC3UC, OSP_UNKNOWN},
+    {OSP_TEXTURE_RGB32F, "RGB32F", 3, Channel::float32, false, OSP_VEC3F, OSP_UNKNOWN},
+    {OSP_TEXTURE_R8, "R8", 1, Channel::unorm8, false, OSP_UCHAR, OSP_UNKNOWN},
+    {OSP_TEXTURE_R32F, "R32F", 1, Channel::float32, false, OSP_FLOAT, OSP_UNKNOWN},
+    {OSP_TEXTURE_L8, "L8", 1, Channel::unorm8, true, OSP_UCHAR, OSP_UNKNOWN},
+    {OSP_TEXTURE_RA8, "RA8", 2, Channel::unorm8, false, OSP_VEC2UC, OSP_UNKNOWN},
+    {OSP_TEXTURE_LA8, "LA8", 2, Channel::unorm8, true, OSP_VEC2UC, OSP_UNKNOWN},
+    {OSP_TEXTURE_RGBA16, "RGBA16", 4, Channel::unorm16, false, OSP_VEC4US, OSP_UNKNOWN},
+    {OSP_TEXTURE_RGB16, "RGB16", 3, Channel::unorm16, false, OSP_VEC3US, OSP_UNKNOWN},
+    {OSP_TEXTURE_RA16, "RA16", 2, Channel::unorm16, false, OSP_VEC2US, OSP_UNKNOWN},
+    {OSP_TEXTURE_R16, "R16", 1, Channel::unorm16, false, OSP_USHORT, OSP_UNKNOWN},
+    {OSP_TEXTURE_RGBA16F, "RGBA16F", 4, Channel::half, false, OSP_VEC4US, OSP_VEC4H},
+    {OSP_TEXTURE_RGB16F, "RGB16F", 3, Channel::half, false, OSP_VEC3US, OSP_VEC3H},
+    {OSP_TEXTURE_RA16F, "RA16F", 2, Channel::half, false, OSP_VEC2US, OSP_VEC2H},
+    {OSP_TEXTURE_R16F, "R16F", 1, Channel::half, false, OSP_USHORT, OSP_HALF},
+    {OSP_TEXTURE_RA32F, "RA32F", 2, Channel::float32, false, OSP_VEC2F, OSP_UNKNOWN}};
+// clang-format on
+
+float read_channel(const std::byte* texel, Channel channel, int index) {
+  switch (channel) {
+    case Channel::unorm8: return static_cast<float>(reinterpret_cast<const std::uint8_t*>(texel)[index]) / 255.f;
+    case Channel::unorm16: {
+      std::uint16_t v;
+      std::memcpy(&v, texel + 2 * index, sizeof v);
+      return static_cast<float>(v) / 65535.f;
+    }
+    case Channel::half: {
+      std::uint16_t v;
+      std::memcpy(&v, texel + 2 * index, sizeof v);
+      return half_to_float(v);
+    }
+    case Channel::float32: break;
+  }
+  float v;
+  std::memcpy(&v, texel + 4 * index, sizeof v);
+  return v;
+}
+
+}  // namespace
+
 void TextureObject::commit_texture2d() {
   const int format = get_int("format", OSP_TEXTURE_FORMAT_INVALID);
   const Param* p = find("data");
@@ -100,36 +181,26 @@ void TextureObject::commit_texture2d() {
     throw Error(name() + ": parameter 'data' must be an OSPData array, got " + type_name(p->object->kind()));
   const auto* data = static_cast<const Data*>(p->object.get());
   if (data->counts()[2] != 1) throw Error(name() + ": parameter 'data' must be a 2D array");
-  // The layouts sciray reads; the element type must agree with the format.
-  struct Layout {
-    int format;
-    OSPDataType type;
-    const char* type_name;
-    int channels;
-    bool srgb;
-  };
-  static constexpr Layout layouts[] = {
-      {OSP_TEXTURE_RGB32F, OSP_VEC3F, "OSP_VEC3F", 3, false},    {OSP_TEXTURE_RGBA32F, OSP_VEC4F, "OSP_VEC4F", 4, false},
-      {OSP_TEXTURE_R32F, OSP_FLOAT, "OSP_FLOAT", 1, false},      {OSP_TEXTURE_RGB8, OSP_VEC3UC, "OSP_VEC3UC", 3, false},
-      {OSP_TEXTURE_RGBA8, OSP_VEC4UC, "OSP_VEC4UC", 4, false},   {OSP_TEXTURE_SRGB, OSP_VEC3UC, "OSP_VEC3UC", 3, true},
-      {OSP_TEXTURE_SRGBA, OSP_VEC4UC, "OSP_VEC4UC", 4, true},    {OSP_TEXTURE_R8, OSP_UCHAR, "OSP_UCHAR", 1, false},
-      {OSP_TEXTURE_L8, OSP_UCHAR, "OSP_UCHAR", 1, true}};
-  const Layout* layout = nullptr;
-  for (const Layout& l : layouts)
+  const TexelLayout* layout = nullptr;
+  for (const TexelLayout& l : texel_layouts)
     if (l.format == format) layout = &l;
-  if (!layout)
-    throw Error(name() + ": parameter 'format' " + std::to_string(format) +
-                " is not supported (RGB32F, RGBA32F, R32F, RGB8, RGBA8, SRGB, SRGBA, R8 and L8 are)");
-  if (data->element_type() != layout->type)
-    throw Error(name() + ": parameter 'data' holds " + type_name(data->element_type()) + " elements but 'format' " +
-                std::to_string(format) + " needs " + layout->type_name);
-  const bool bytes = layout->type == OSP_VEC3UC || layout->type == OSP_VEC4UC || layout->type == OSP_UCHAR;
+  if (!layout) {
+    std::string known;
+    for (const TexelLayout& l : texel_layouts)
+      known += (known.empty() ? "OSP_TEXTURE_" : ", ") + std::string(l.format_name);
+    throw Error(name() + ": parameter 'format' " + std::to_string(format) + " is not an OSPTextureFormat (" + known +
+                ")");
+  }
+  if (data->element_type() != layout->type && data->element_type() != layout->half_type)
+    throw Error(name() + ": parameter 'data' holds " + type_name(data->element_type()) +
+                " elements but 'format' OSP_TEXTURE_" + layout->format_name + " needs " + type_name(layout->type) +
+                (layout->half_type != OSP_UNKNOWN ? " or " + type_name(layout->half_type) : std::string()));
+  // sciray's textures are RGB: one- and two-channel texels (R, L, RA, LA) give grey from
+  // their first channel, and alpha is not read.
   std::vector<Vec3f> texels = data->to_vector<Vec3f>([&](const std::byte* e) {
     float c[3];
     for (int k = 0; k < 3; ++k) {
-      const int channel = layout->channels == 1 ? 0 : k;
-      float v = bytes ? static_cast<float>(reinterpret_cast<const std::uint8_t*>(e)[channel]) / 255.f
-                      : reinterpret_cast<const float*>(e)[channel];
+      const float v = read_channel(e, layout->channel, layout->channels <= 2 ? 0 : k);
       c[k] = layout->srgb ? srgb_to_linear(v) : v;
     }
     return Vec3f{c[0], c[1], c[2]};

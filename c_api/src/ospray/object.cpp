@@ -84,6 +84,15 @@ std::string type_name(OSPDataType type) {
     case OSP_HALF: return "half";
     case OSP_FLOAT: return "float";
     case OSP_DOUBLE: return "double";
+    case OSP_VEC2UC: return "vec2uc";
+    case OSP_VEC3UC: return "vec3uc";
+    case OSP_VEC4UC: return "vec4uc";
+    case OSP_VEC2US: return "vec2us";
+    case OSP_VEC3US: return "vec3us";
+    case OSP_VEC4US: return "vec4us";
+    case OSP_VEC2H: return "vec2h";
+    case OSP_VEC3H: return "vec3h";
+    case OSP_VEC4H: return "vec4h";
     case OSP_VEC2F: return "vec2f";
     case OSP_VEC3F: return "vec3f";
     case OSP_VEC4F: return "vec4f";
@@ -95,6 +104,8 @@ std::string type_name(OSPDataType type) {
     case OSP_VEC4UI: return "vec4ui";
     case OSP_BOX1F: return "box1f";
     case OSP_BOX3F: return "box3f";
+    case OSP_LINEAR2F: return "linear2f";
+    case OSP_AFFINE2F: return "affine2f";
     case OSP_LINEAR3F: return "linear3f";
     case OSP_AFFINE3F: return "affine3f";
     case OSP_VOID_PTR: return "void*";

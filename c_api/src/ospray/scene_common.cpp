@@ -75,11 +75,11 @@ void append_floats(PaddedVector<float>& out, const Data& data, int components, i
   }
 }
 
-int get_enum(const Object& owner, int value, const char* id, std::initializer_list<const char*> names) {
-  if (value >= 0 && value < static_cast<int>(names.size())) return value;
+int get_enum(const Object& owner, int value, const char* id, std::initializer_list<const char*> names, int first) {
+  if (value >= first && value - first < static_cast<int>(names.size())) return value - first;
   std::string known;
   int i = 0;
-  for (const char* n : names) known += (i ? ", " : "") + std::string(n) + " = " + std::to_string(i), ++i;
+  for (const char* n : names) known += (i ? ", " : "") + std::string(n) + " = " + std::to_string(first + i), ++i;
   throw Error(owner.name() + ": parameter '" + id + "' has unknown value " + std::to_string(value) + " (" + known +
               ")");
 }

@@ -51,8 +51,10 @@ inline void append_colors(PaddedVector<float>& out, const Data& data) {
   append_floats(out, data, data.element_type() == OSP_VEC4F ? 4 : 3, 4);
 }
 
-/// An OSPRay enum parameter (set as int, uint or uchar) in [0, count), by its names.
-int get_enum(const Object& owner, int value, const char* id, std::initializer_list<const char*> names);
+/// An OSPRay enum parameter (set as int, uint or uchar) whose names have the values
+/// first, first + 1, ...: its index among them.
+int get_enum(const Object& owner, int value, const char* id, std::initializer_list<const char*> names,
+             int first = 0);
 
 inline std::string format_vec(const Vec3f& v) {
   std::ostringstream out;
