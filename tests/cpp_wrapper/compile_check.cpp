@@ -2,7 +2,8 @@
 // file is built as C++11, 14, 17 and 20 with warnings as errors and linked against the
 // shim, never run. It constructs every wrapper class every way OSPRay's allow, calls every
 // member, sets a parameter of every type OSPTypeFor knows and checks each type's size
-// against the OSPDataType it is declared as.
+// against the OSPDataType it is declared as. It uses none of sciray's extensions (see
+// docs/c-api.md): it is an OSPRay program.
 
 #include <ospray/ospray_cpp.h>
 
@@ -255,8 +256,7 @@ void lifetime(Args&&... args) {
 // Referenced from nowhere: it exists to be compiled, and linked against the shim.
 void everyWrapper();
 void everyWrapper() {
-  cpp::Device device;
-  cpp::Device cpuDevice("cpu");
+  cpp::Device device("cpu");
   cpp::Device adopted(ospNewDevice("cpu"));
   cpp::Device copied(device);
   cpp::Device moved(std::move(copied));
@@ -308,8 +308,8 @@ void everyWrapper() {
   cpp::SharedData explicitTypeStrided(points.data(), OSP_FLOAT, std::size_t(8), std::size_t(12));
   cpp::SharedData grid2(points.data(), glm::ivec2(4, 2));
   cpp::SharedData grid3(points.data(), glm::ivec3(2, 2, 2), glm::ivec3(0));
-  cpp::CopiedData grid2ul(points.data(), Size2{4, 2});
-  cpp::CopiedData grid3ul(points.data(), Size3{2, 2, 2});
+  cpp::CopiedData grid2ul(points.data(), Size2{4, 2}, Size2{0, 0});
+  cpp::CopiedData grid3ul(points.data(), Size3{2, 2, 2}, Size3{0, 0, 0});
   cpp::CopiedData fromArray(values);
   cpp::SharedData fromVector(points);
   cpp::CopiedData oneModel(model);

@@ -210,14 +210,18 @@ int main(int argc, const char** argv) {
     CHECK(future.isReady());
     CHECK(future.progress() == 1.f);
     CHECK(future.duration() > 0.f);
-    // Cancelled at once, a large frame stops short of its end.
+    // Cancelled at once, a large frame ends; sciray stops it short of its end (OSPRay 3.1
+    // may finish the frame, reporting it complete).
     ospray::cpp::FrameBuffer large(1024, 1024, OSP_FB_SRGBA, OSP_FB_COLOR);
     pathtracer.setParam("pixelSamples", 16);
     pathtracer.commit();
     ospray::cpp::Future cancelled = large.renderFrame(pathtracer, camera, world);
     cancelled.cancel();
     cancelled.wait();
-    CHECK(cancelled.isReady() && cancelled.progress() < 1.f);
+    CHECK(cancelled.isReady());
+#ifdef OSPRAY_SCIRAY
+    CHECK(cancelled.progress() < 1.f);
+#endif
 
     // Wrappers share their object: copies and moves keep one object alive, no leak (the
     // test runs under LeakSanitizer where available).
