@@ -1,6 +1,7 @@
 # Installs the build tree into a scratch prefix, then configures, builds and runs
-# tests/consumer against it with only CMAKE_PREFIX_PATH pointing there; then runs the
-# installed tool from that prefix and from a copy elsewhere, with no library path set.
+# tests/consumer and tests/ospray_consumer against it with only CMAKE_PREFIX_PATH pointing
+# there; then runs the installed tool from that prefix and from a copy elsewhere, with no
+# library path set.
 set(prefix ${BUILD_DIR}/install-test/prefix)
 set(consumer_build ${BUILD_DIR}/install-test/consumer)
 file(REMOVE_RECURSE ${BUILD_DIR}/install-test)
@@ -18,7 +19,9 @@ endfunction()
 
 run(${CMAKE_COMMAND} --install ${BUILD_DIR} --prefix ${prefix})
 foreach(expected bin/sciray include/sciray/sciray.hpp include/ospray/ospray.h include/ospray/ospray_util.h
-                 lib/cmake/sciray/sciray-config.cmake lib/cmake/ospray/ospray-config.cmake)
+                 include/ospray/ospray_cpp.h include/ospray/ospray_cpp/ext/glm.h
+                 include/ospray/ospray_cpp/ext/rkcommon.h lib/cmake/sciray/sciray-config.cmake
+                 lib/cmake/ospray/ospray-config.cmake)
   if(NOT EXISTS ${prefix}/${expected})
     message(FATAL_ERROR "the install lacks ${expected}")
   endif()
@@ -29,15 +32,20 @@ run(${CMAKE_COMMAND} --build ${consumer_build})
 run(${consumer_build}/header_only)
 run(${consumer_build}/through_shim)
 
-# An OSPRay program built with only find_package(ospray), run to write its image.
+# OSPRay programs built with only find_package(ospray), run to write their images: the C
+# tutorial, and the C++ one on the installed C++ wrapper (it checks its image itself).
 set(ospray_build ${BUILD_DIR}/install-test/ospray_application)
 run(${CMAKE_COMMAND} -S ${SOURCE_DIR}/tests/ospray_consumer -B ${ospray_build} -DCMAKE_PREFIX_PATH=${prefix}
-    -DTUTORIAL_SOURCE=${SOURCE_DIR}/examples/c/ospray_tutorial.c)
+    -DTUTORIAL_SOURCE=${SOURCE_DIR}/examples/c/ospray_tutorial.c
+    -DCPP_TUTORIAL_SOURCE=${SOURCE_DIR}/tests/cpp_wrapper/ospray_tutorial.cpp)
 run(${CMAKE_COMMAND} --build ${ospray_build})
 run(${ospray_build}/ospray_tutorial ${ospray_build}/tutorial.png)
-if(NOT EXISTS ${ospray_build}/tutorial.png)
-  message(FATAL_ERROR "the OSPRay application wrote no image")
-endif()
+run(${ospray_build}/ospray_tutorial_cpp ${ospray_build}/tutorial_cpp.ppm)
+foreach(image tutorial.png tutorial_cpp.ppm)
+  if(NOT EXISTS ${ospray_build}/${image})
+    message(FATAL_ERROR "the OSPRay application wrote no ${image}")
+  endif()
+endforeach()
 
 # The installed tool loads the installed shim wherever the prefix lies.
 set(moved ${BUILD_DIR}/install-test/moved/prefix)

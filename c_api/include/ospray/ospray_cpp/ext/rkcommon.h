@@ -1,0 +1,70 @@
+// sciray's OSPRay C++ wrapper: rkcommon's math types (rkcommon::math, which OSPRay itself
+// uses) as OSPRay types, so that they can be passed to setParam and Data directly.
+// Before C++17, a program that binds OSPTypeFor<T>::value to a reference (the wrappers
+// never do) defines OSPRAY_RKCOMMON_DEFINITIONS before including this in one translation unit.
+// sciray neither ships nor needs rkcommon: this header is for applications that use it.
+#pragma once
+
+#include <rkcommon/math/AffineSpace.h>
+#include <rkcommon/math/box.h>
+
+#include "../Traits.h"
+
+// Each type's OSPTypeFor specialization and, on request, its out-of-line definition (which
+// C++17 makes implicit, and deprecates).
+#if defined(OSPRAY_RKCOMMON_DEFINITIONS) && __cplusplus < 201703L
+#define SCIRAY_OSP_RKCOMMON_TYPE(type, osp_type) \
+  OSPTYPEFOR_SPECIALIZATION(rkcommon::math::type, osp_type) OSPTYPEFOR_DEFINITION(rkcommon::math::type);
+#else
+#define SCIRAY_OSP_RKCOMMON_TYPE(type, osp_type) OSPTYPEFOR_SPECIALIZATION(rkcommon::math::type, osp_type)
+#endif
+
+namespace ospray {
+
+SCIRAY_OSP_RKCOMMON_TYPE(vec2c, OSP_VEC2C)
+SCIRAY_OSP_RKCOMMON_TYPE(vec3c, OSP_VEC3C)
+SCIRAY_OSP_RKCOMMON_TYPE(vec4c, OSP_VEC4C)
+SCIRAY_OSP_RKCOMMON_TYPE(vec2uc, OSP_VEC2UC)
+SCIRAY_OSP_RKCOMMON_TYPE(vec3uc, OSP_VEC3UC)
+SCIRAY_OSP_RKCOMMON_TYPE(vec4uc, OSP_VEC4UC)
+SCIRAY_OSP_RKCOMMON_TYPE(vec2s, OSP_VEC2S)
+SCIRAY_OSP_RKCOMMON_TYPE(vec3s, OSP_VEC3S)
+SCIRAY_OSP_RKCOMMON_TYPE(vec4s, OSP_VEC4S)
+SCIRAY_OSP_RKCOMMON_TYPE(vec2us, OSP_VEC2US)
+SCIRAY_OSP_RKCOMMON_TYPE(vec3us, OSP_VEC3US)
+SCIRAY_OSP_RKCOMMON_TYPE(vec4us, OSP_VEC4US)
+SCIRAY_OSP_RKCOMMON_TYPE(vec2i, OSP_VEC2I)
+SCIRAY_OSP_RKCOMMON_TYPE(vec3i, OSP_VEC3I)
+SCIRAY_OSP_RKCOMMON_TYPE(vec4i, OSP_VEC4I)
+SCIRAY_OSP_RKCOMMON_TYPE(vec2ui, OSP_VEC2UI)
+SCIRAY_OSP_RKCOMMON_TYPE(vec3ui, OSP_VEC3UI)
+SCIRAY_OSP_RKCOMMON_TYPE(vec4ui, OSP_VEC4UI)
+SCIRAY_OSP_RKCOMMON_TYPE(vec2l, OSP_VEC2L)
+SCIRAY_OSP_RKCOMMON_TYPE(vec3l, OSP_VEC3L)
+SCIRAY_OSP_RKCOMMON_TYPE(vec4l, OSP_VEC4L)
+SCIRAY_OSP_RKCOMMON_TYPE(vec2ul, OSP_VEC2UL)
+SCIRAY_OSP_RKCOMMON_TYPE(vec3ul, OSP_VEC3UL)
+SCIRAY_OSP_RKCOMMON_TYPE(vec4ul, OSP_VEC4UL)
+SCIRAY_OSP_RKCOMMON_TYPE(vec2f, OSP_VEC2F)
+SCIRAY_OSP_RKCOMMON_TYPE(vec3f, OSP_VEC3F)
+SCIRAY_OSP_RKCOMMON_TYPE(vec4f, OSP_VEC4F)
+SCIRAY_OSP_RKCOMMON_TYPE(vec2d, OSP_VEC2D)
+SCIRAY_OSP_RKCOMMON_TYPE(vec3d, OSP_VEC3D)
+SCIRAY_OSP_RKCOMMON_TYPE(vec4d, OSP_VEC4D)
+SCIRAY_OSP_RKCOMMON_TYPE(box1i, OSP_BOX1I)
+SCIRAY_OSP_RKCOMMON_TYPE(box2i, OSP_BOX2I)
+SCIRAY_OSP_RKCOMMON_TYPE(box3i, OSP_BOX3I)
+SCIRAY_OSP_RKCOMMON_TYPE(box4i, OSP_BOX4I)
+SCIRAY_OSP_RKCOMMON_TYPE(box1f, OSP_BOX1F)
+SCIRAY_OSP_RKCOMMON_TYPE(box2f, OSP_BOX2F)
+SCIRAY_OSP_RKCOMMON_TYPE(box3f, OSP_BOX3F)
+SCIRAY_OSP_RKCOMMON_TYPE(box4f, OSP_BOX4F)
+SCIRAY_OSP_RKCOMMON_TYPE(linear2f, OSP_LINEAR2F)
+SCIRAY_OSP_RKCOMMON_TYPE(linear3f, OSP_LINEAR3F)
+SCIRAY_OSP_RKCOMMON_TYPE(affine2f, OSP_AFFINE2F)
+SCIRAY_OSP_RKCOMMON_TYPE(affine3f, OSP_AFFINE3F)
+SCIRAY_OSP_RKCOMMON_TYPE(quatf, OSP_QUATF)
+
+}  // namespace ospray
+
+#undef SCIRAY_OSP_RKCOMMON_TYPE
