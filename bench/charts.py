@@ -17,7 +17,7 @@ Sweeps (each measured in one run on this machine):
     and without empty-space skipping, pre-integrated, and with adaptive step lengths;
   * renderers: RMSE against time on the Cornell box (128x128, one sample per pixel a
     frame, accumulated; one thread's CPU time) of the path tracer (MIS, light sampling
-    only, BSDF sampling only), scivis with soft shadows and AO, and ao, each against its
+    only, BSDF sampling only), scivis with shadows and AO, and ao, each against its
     own converged reference (16x the sweep's longest run, rendered here; the three path
     tracers share the MIS reference: each alone is unbiased);
   * ao_samples: the ao renderer with aoSamples 1..16 a frame, against one reference
@@ -180,7 +180,7 @@ RENDERER_CURVES = [
     ("pathtracer (MIS)", "pathtracer", ["--renderer", "pathtracer", "--light-sampling", "mis"]),
     ("pathtracer, light sampling only", "pathtracer", ["--renderer", "pathtracer", "--light-sampling", "lights_only"]),
     ("pathtracer, BSDF sampling only", "pathtracer", ["--renderer", "pathtracer", "--light-sampling", "bsdf_only"]),
-    ("scivis, soft shadows + AO", "scivis",
+    ("scivis, shadows + AO", "scivis",
      ["--renderer", "scivis", "--shadows", "--ao-samples", "1", "--ambient", "0.3", *CORNELL_AO]),
     ("ao (aoSamples 1)", "ao", ["--renderer", "ao", "--ao-samples", "1", *CORNELL_AO]),
 ]

@@ -158,8 +158,10 @@ private:
 };
 
 /// Where sample `n` of a pixel lies in [0,1)^2, before the filter maps it to an offset:
-/// OSPRay's Halton points (base 2; base 3 rotated by 1/6), the same in every pixel.
-inline std::array<float, 2> pixel_sample_point(std::uint32_t n) {
+/// OSPRay's Halton point n + 1 (base 2; base 3 rotated by 1/6), the same in every pixel.
+/// Sample 0 is (1/2, 1/2), the centre under every filter.
+inline std::array<float, 2> pixel_sample_point(std::uint32_t sample) {
+  const std::uint32_t n = sample + 1;
   std::uint32_t reversed = (n << 16) | (n >> 16);
   reversed = ((reversed & 0x00ff00ffu) << 8) | ((reversed & 0xff00ff00u) >> 8);
   reversed = ((reversed & 0x0f0f0f0fu) << 4) | ((reversed & 0xf0f0f0f0u) >> 4);

@@ -276,7 +276,7 @@ private:
       return out;
     }
     const Vec3<F> p = ray.org + ray.dir * t;
-    const F offset = offset_of(p);
+    const F offset = offset_of(p, t, ray.dir);
     const Vec3<F> org = p + ng * offset;
 
     Vec3<F> lit = Vec3<F>(ambient_) * ambient_visibility(org, n, lanes, rng);
@@ -342,9 +342,15 @@ private:
     return any;
   }
 
-  F offset_of(const Vec3<F>& p) const {
-    const F magnitude = simd::max(simd::max(simd::abs(p.x), simd::abs(p.y)), simd::abs(p.z));
-    return F(8e-6f) * magnitude + F(1e-6f * scene_size_);
+  /// How far shadow and AO rays start off the surface, along the geometric normal:
+  /// OSPRay's epsilon, about 8 ulps of the larger of the hit's largest coordinate and its
+  /// distance along the ray — so that shadow edges and terminators land where OSPRay's
+  /// do, also on objects far smaller than the scene.
+  static F offset_of(const Vec3<F>& p, const F& t, const Vec3<F>& dir) {
+    const auto largest = [](const Vec3<F>& v) {
+      return simd::max(simd::max(simd::abs(v.x), simd::abs(v.y)), simd::abs(v.z));
+    };
+    return F(0x1.fp-21f) * simd::max(largest(p), largest(dir) * t);
   }
 
   /// The fraction of `aoSamples` cosine-weighted rays around n that nothing blocks within

@@ -1,0 +1,39 @@
+#!/usr/bin/env bash
+# Runs OSPRay 3.1's own test suite against sciray: builds the C API shim (Release), then
+# shared/conformance/ospray-3.1/run.sh with the shim standing in for libospray.so.3, each
+# test's image compared with OSPRay 3.1's own render by the suite's metric.
+#   scripts/ospray-conformance.sh [TESTS.tsv]
+# BUILD_DIR (default build), OUT_DIR (default BUILD_DIR/ospray-conformance) and
+# SHARED_DIR (default ../shared beside the checkout) can be set in the environment.
+# About 12 minutes on 2 cores for the 259 shared tests. Not part of CI: the suite's
+# binaries are a yardstick kept outside the project.
+# Prints the suite's lines, a breakdown of the failures, and last the suite's own
+# "N passed, M failed".
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+build_dir=${BUILD_DIR:-build}
+shared=${SHARED_DIR:-../shared}
+suite=$shared/conformance/ospray-3.1
+[ -x "$suite/run.sh" ] || [ -f "$suite/run.sh" ] || { echo "no OSPRay suite at $suite (set SHARED_DIR)" >&2; exit 2; }
+out=${OUT_DIR:-$build_dir/ospray-conformance}
+
+cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release >/dev/null
+cmake --build "$build_dir" -j "${JOBS:-$(nproc)}" --target sciray_ospray
+# A copy of the library, so that a rebuild during the run cannot change it under the suite.
+snapshot=$(mktemp -d)
+trap 'rm -rf "$snapshot"' EXIT
+cp "$(ls "$build_dir"/c_api/libsciray_ospray.so.*.*.* | head -1)" "$snapshot/libsciray_ospray.so"
+
+rm -rf "$out"
+summary=$(bash "$suite/run.sh" "$snapshot" "$out" "${1:-$suite/tests.tsv}" | tee /dev/stderr | tail -1)
+
+# Failures by cause: the first OSPRay error (numbers elided) or an image difference. Tests
+# of the non-grid volume types belong to the volumes issue and are counted apart.
+results=$out/results.tsv
+non_grid=$(awk -F'\t' '$1 != "OK" && $3 ~ /unknown volume type .(unstructured|vdb|amr|particle)/' "$results" | wc -l)
+echo "failures by cause:"
+awk -F'\t' '$1 != "OK" {print ($1 == "FAIL" ? "image differs" : $3)}' "$results" | sed -E 's/[0-9]+/N/g' |
+  cut -c1-120 | sort | uniq -c | sort -rn
+echo "of the failures, $non_grid are non-grid volume tests (unstructured, vdb, amr, particle)"
+echo "$summary"
