@@ -232,7 +232,7 @@ TEST_CASE("an hdri light of a texture2d is the background scivis shows", "[c_api
 TEST_CASE("bad lights, materials, textures and renderer parameters are named", "[c_api][renderers][errors]") {
   ApiFixture api;
   CHECK(ospNewLight("photometric") == nullptr);
-  api.expect_error("unknown light type 'photometric' (sciray supports: ambient, distant, sphere, spot, quad, hdri)");
+  api.expect_error("unknown light type 'photometric' (sciray supports: ambient, distant, sphere, spot, quad, cylinder, hdri, sunSky)");
   CHECK(ospNewMaterial("velvet") == nullptr);
   api.expect_error("unknown material type 'velvet'");
 

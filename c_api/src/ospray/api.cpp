@@ -271,8 +271,9 @@ void ospCopyData(const OSPData source, OSPData destination, uint64_t i1, uint64_
 OSPLight ospNewLight(const char* type) {
   return guarded("ospNewLight", [&] {
     const std::string t = type_string(type);
-    if (t != "ambient" && t != "distant" && t != "sphere" && t != "spot" && t != "quad" && t != "hdri")
-      unknown_type("light", t, "ambient, distant, sphere, spot, quad, hdri");
+    if (t != "ambient" && t != "distant" && t != "sphere" && t != "spot" && t != "quad" && t != "cylinder" &&
+        t != "hdri" && t != "sunSky")
+      unknown_type("light", t, "ambient, distant, sphere, spot, quad, cylinder, hdri, sunSky");
     return handle_of<OSPLight>(new Light(t));
   }, OSPLight{});
 }

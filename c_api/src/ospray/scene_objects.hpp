@@ -312,6 +312,25 @@ private:
   bool invert_normals_ = false;
 };
 
+class Light : public Object {
+public:
+  explicit Light(std::string type) : Object(OSP_LIGHT, std::move(type)) {}
+  /// The engine lights for the committed parameters: one, or for `sunSky` the sky and
+  /// the sun.
+  const std::vector<sciray::Light>& lights() const { return lights_; }
+
+protected:
+  void on_commit() override;
+
+private:
+  /// The photometric table `intensityDistribution` (a 1D or 2D float array), if set.
+  IntensityDistribution read_distribution() const;
+  /// The engine sky and sun of a `sunSky` light.
+  std::vector<sciray::Light> sun_sky() const;
+
+  std::vector<sciray::Light> lights_;
+};
+
 class Group : public Object {
 public:
   Group() : Object(OSP_GROUP, "") {}
@@ -323,6 +342,8 @@ public:
   /// `clippingGeometry`: models whose geometry, placed by each instance of the group,
   /// clips the whole world; they are not rendered (unless also in `geometry`).
   const std::vector<Ref<GeometricModel>>& clipping_models() const { return clipping_models_; }
+  /// `light`: lights placed by every instance of the group (transformed by it).
+  const std::vector<Ref<Light>>& lights() const { return lights_; }
   /// The bounds of the rendered models and volumes (clipping geometry adds nothing).
   Box3f bounds() const;
   /// Also counts the clipping models and the volumes: a world rebuilds when one is
@@ -339,6 +360,7 @@ private:
   std::vector<Ref<GeometricModel>> models_;
   std::vector<Ref<GeometricModel>> clipping_models_;
   std::vector<Ref<VolumetricModelObject>> volumes_;
+  std::vector<Ref<Light>> lights_;
 };
 
 class Instance : public Object {
@@ -357,18 +379,6 @@ private:
   Affine3f transform_;
 };
 
-class Light : public Object {
-public:
-  explicit Light(std::string type) : Object(OSP_LIGHT, std::move(type)) {}
-  /// The engine light for the committed parameters.
-  const sciray::Light& light() const { return light_; }
-
-protected:
-  void on_commit() override;
-
-private:
-  sciray::Light light_;
-};
 
 /// The engine's form of one OSPRay group: one engine group holding a geometry per model
 /// (geometry id = index of the model in the group), built once and shared by every

@@ -79,9 +79,18 @@ void Group::on_commit() {
       if (!model->committed()) throw Error(element + " has not been committed");
       volumes.emplace_back(model);
     }
+  std::vector<Ref<Light>> lights;
+  if (const Data* list = get_data(*this, find("light"), "light", {OSP_LIGHT}))
+    for (std::uint64_t i = 0; i < list->size(); ++i) {
+      auto* light = static_cast<Light*>(list->object(i));
+      if (!light || !light->committed())
+        throw Error(name() + ": parameter 'light' element " + std::to_string(i) + " is NULL or not committed");
+      lights.emplace_back(light);
+    }
   models_ = std::move(models);
   clipping_models_ = std::move(clipping);
   volumes_ = std::move(volumes);
+  lights_ = std::move(lights);
 }
 
 Box3f Group::bounds() const {
@@ -101,6 +110,7 @@ std::uint64_t Group::version() const {
   std::uint64_t v = geometry_version();
   for (const auto& m : clipping_models_) v = std::max(v, m->version());
   for (const auto& m : volumes_) v = std::max(v, m->version());
+  for (const auto& l : lights_) v = std::max(v, l->version());
   return v;
 }
 
@@ -513,7 +523,12 @@ std::shared_ptr<const BuiltWorld> World::built(const shim::IsaKernels& kernels, 
   // intersector compiled for its ISA), then the top-level BVH over the instances.
   kernels.commit(*built->world);
 
-  for (const auto& light : lights_) built->lights.push_back(light->light());
+  for (const auto& light : lights_)
+    for (const sciray::Light& l : light->lights()) built->lights.push_back(l);
+  // Lights in groups are placed by every instance of their group.
+  for (const auto& instance : instances_)
+    for (const auto& light : instance->group()->lights())
+      for (const sciray::Light& l : light->lights()) built->lights.push_back(transformed(l, instance->transform()));
   for (const MaterialEntry& entry : materials_) {
     if (entry.renderer_index) {  // filled in per frame, from the renderer's list
       built->renderer_materials.push_back({built->materials.size(), *entry.renderer_index, entry.tint});

@@ -1,12 +1,14 @@
 #pragma once
-// Lights with OSPRay's types and parameters, and how renderers sample them. Each light's
-// `intensity` has OSPRay's default quantity: irradiance for `distant`, radiant intensity
-// (W/sr) for `sphere` and `spot`, radiance for `quad`, `hdri` and `ambient`.
+// Lights with OSPRay's types and parameters, and how renderers sample them. A light's
+// `color * intensity` is measured in its `quantity` (OSPRay's `intensityQuantity`), whose
+// default and accepted values are OSPRay's: see `accepts` and `emitted`.
 //
 // Sampling runs per ray (scalar): `sample` picks a direction towards the light from a
 // point and returns the radiance divided by the pdf; `eval` returns the radiance and pdf
 // of a direction found otherwise (by BSDF sampling), which multiple importance sampling
-// weighs against. Delta lights (no size) have an infinite pdf and are never hit.
+// weighs against. Delta lights (no size) have an infinite pdf and are never hit. Sample
+// point (0, 0), where OSPRay's scivis samples every light, lands where it does in OSPRay:
+// the centre of a sphere, disk or cone, a ring's inner edge along c0, a quad's `position`.
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -19,8 +21,10 @@
 #include <vector>
 
 #include "sciray/error.hpp"
+#include "sciray/math/affine.hpp"
 #include "sciray/math/vec.hpp"
-#include "sciray/render/texture.hpp"
+#include "sciray/render/light_distribution.hpp"
+#include "sciray/render/light_hdri.hpp"
 
 namespace sciray {
 
@@ -30,165 +34,93 @@ struct LightCommon {
   bool visible = true;  ///< seen by camera rays (area and environment lights)
 };
 
-/// Radiance from every direction (OSPRay `ambient`).
-struct AmbientLight : LightCommon {};
+/// Radiance from every direction (OSPRay `ambient`); `quantity` radiance or irradiance.
+struct AmbientLight : LightCommon {
+  IntensityQuantity quantity = IntensityQuantity::radiance;
+};
 
 /// A light at infinity travelling along `direction`; a disk of `angular_diameter` degrees
-/// (the sun: 0.53) casts soft shadows.
+/// (the sun: 0.53) casts soft shadows. `quantity` irradiance or radiance (of the disk).
 struct DistantLight : LightCommon {
   Vec3f direction{0.f, 0.f, 1.f};
   float angular_diameter = 0.f;
+  IntensityQuantity quantity = IntensityQuantity::irradiance;
 };
 
-/// A point light, or with `radius` > 0 a sphere (OSPRay `sphere`).
+/// A point light, or with `radius` > 0 a sphere (OSPRay `sphere`). `quantity` intensity,
+/// power or radiance; with a `distribution` (photometric, its axis `direction`, c0 `c0`
+/// or OSPRay's default) scale only: color * intensity * the table is the intensity.
 struct SphereLight : LightCommon {
   Vec3f position{0.f, 0.f, 0.f};
   float radius = 0.f;
+  Vec3f direction{0.f, 0.f, 1.f};
+  std::optional<Vec3f> c0;
+  IntensityDistribution distribution;
+  IntensityQuantity quantity = IntensityQuantity::intensity;
 };
 
 /// A spot light emitting along `direction` within `opening_angle` degrees (full angle),
-/// fading out over `penumbra_angle` inside it; with `radius` > 0 a disk facing `direction`.
+/// fading out linearly in cosine over `penumbra_angle` inside it; with `radius` > 0 a
+/// disk facing `direction`, a ring with `inner_radius` > 0. Without size it emits as a
+/// small Lambertian disk: intensity times the cosine to `direction`. `quantity`
+/// intensity, power or radiance; with a `distribution` scale (or radiance).
 struct SpotLight : LightCommon {
   Vec3f position{0.f, 0.f, 0.f};
   Vec3f direction{0.f, 0.f, 1.f};
   float opening_angle = 180.f;
   float penumbra_angle = 5.f;
   float radius = 0.f;
+  float inner_radius = 0.f;
+  std::optional<Vec3f> c0;  ///< where the ring's sample (0, 0) and C = 0 lie
+  IntensityDistribution distribution;
+  IntensityQuantity quantity = IntensityQuantity::intensity;
 };
 
 /// A parallelogram at `position` spanned by `edge1` and `edge2`, emitting to the side of
-/// edge1 x edge2.
+/// edge1 x edge2 (to both, shaped by the table, with a `distribution`, whose c0 defaults
+/// to `edge2`). `quantity` radiance, intensity or power; with a distribution scale.
 struct QuadLight : LightCommon {
   Vec3f position{0.f, 0.f, 0.f};
   Vec3f edge1{1.f, 0.f, 0.f};
   Vec3f edge2{0.f, 1.f, 0.f};
+  std::optional<Vec3f> c0;
+  IntensityDistribution distribution;
+  IntensityQuantity quantity = IntensityQuantity::radiance;
 };
 
-/// An environment map in latitude-longitude layout: `direction` is where the map's centre
-/// (u = 0.5, v = 0.5) lies, `up` is v = 1. Sampled in proportion to its luminance.
-class HdriLight : public LightCommon {
-public:
-  HdriLight() = default;
-  HdriLight(std::shared_ptr<const Texture2D> map, Vec3f up = {0.f, 1.f, 0.f}, Vec3f direction = {0.f, 0.f, 1.f})
-      : map_(std::move(map)), up_(up), direction_(direction) {
-    if (!map_) throw Error("hdri light: parameter 'map' is missing");
-    const float upl = length(up_), dl = length(direction_);
-    if (!(upl > 0.f) || !std::isfinite(upl)) throw Error("hdri light: parameter 'up' must be a finite non-zero vector");
-    if (!(dl > 0.f) || !std::isfinite(dl)) throw Error("hdri light: parameter 'direction' must be a finite non-zero vector");
-    up_ = up_ / upl;
-    const Vec3f d = direction_ - up_ * dot(direction_, up_);
-    if (length(d) < 1e-6f * dl) throw Error("hdri light: 'direction' is parallel to 'up'");
-    forward_ = normalize(d);
-    side_ = cross(up_, forward_);
-    build_distribution();
-  }
-
-  const Texture2D* map() const { return map_.get(); }
-
-  /// The map's radiance (without colour and intensity) in world direction `w`.
-  Vec3f lookup(const Vec3f& w) const {
-    const auto [u, v] = to_uv(w);
-    return map_->sample(u, v);
-  }
-
-  struct Direction {
-    Vec3f w;
-    float pdf;  // solid angle
-  };
-  Direction sample(float u1, float u2) const {
-    const int h = map_->height(), wdt = map_->width();
-    const int row = pick(marginal_.data(), h, u2);
-    const float dv = (u2 - marginal_[row]) / std::max(marginal_[row + 1] - marginal_[row], 1e-30f);
-    const float* cdf = &conditional_[static_cast<std::size_t>(row) * (wdt + 1)];
-    const int column = pick(cdf, wdt, u1);
-    const float du = (u1 - cdf[column]) / std::max(cdf[column + 1] - cdf[column], 1e-30f);
-    const float u = (static_cast<float>(column) + std::clamp(du, 0.f, 1.f)) / static_cast<float>(wdt);
-    const float v = (static_cast<float>(row) + std::clamp(dv, 0.f, 1.f)) / static_cast<float>(h);
-    const Vec3f w = from_uv(u, v);
-    return {w, pdf_uv(u, v)};
-  }
-  float pdf(const Vec3f& w) const {
-    const auto [u, v] = to_uv(w);
-    return pdf_uv(u, v);
-  }
-
-private:
-  struct Uv {
-    float u, v;
-  };
-  Vec3f from_uv(float u, float v) const {
-    const float theta = v * std::numbers::pi_v<float>, phi = 2.f * std::numbers::pi_v<float> * (u - 0.5f);
-    const float s = std::sin(theta);
-    return forward_ * (s * std::cos(phi)) + side_ * (s * std::sin(phi)) - up_ * std::cos(theta);
-  }
-  Uv to_uv(const Vec3f& w) const {
-    const float theta = std::acos(std::clamp(-dot(w, up_), -1.f, 1.f));
-    const float phi = std::atan2(dot(w, side_), dot(w, forward_));
-    return {phi / (2.f * std::numbers::pi_v<float>) + 0.5f, theta / std::numbers::pi_v<float>};
-  }
-  float pdf_uv(float u, float v) const {
-    const int wdt = map_->width(), h = map_->height();
-    const int x = std::clamp(static_cast<int>(u * wdt), 0, wdt - 1), y = std::clamp(static_cast<int>(v * h), 0, h - 1);
-    const float sin_theta = std::sin(v * std::numbers::pi_v<float>);
-    if (sin_theta <= 0.f || total_ <= 0.f) return 0.f;
-    // Texel probability / texel area in (u,v), over the Jacobian 2 pi^2 sin(theta).
-    const float p_uv = weight_[static_cast<std::size_t>(y) * wdt + x] / total_;
-    return p_uv / (2.f * std::numbers::pi_v<float> * std::numbers::pi_v<float> * sin_theta);
-  }
-  /// The bin i of the n-bin `cdf` (n + 1 values) with cdf[i] <= u < cdf[i + 1].
-  static int pick(const float* cdf, int n, float u) {
-    return static_cast<int>(std::upper_bound(cdf + 1, cdf + n, u) - cdf) - 1;
-  }
-  void build_distribution() {
-    const int wdt = map_->width(), h = map_->height();
-    weight_.assign(static_cast<std::size_t>(wdt) * h, 0.f);
-    conditional_.assign(static_cast<std::size_t>(wdt + 1) * h, 0.f);
-    marginal_.assign(static_cast<std::size_t>(h) + 1, 0.f);
-    for (int y = 0; y < h; ++y) {
-      const float sin_theta = std::sin((static_cast<float>(y) + 0.5f) / static_cast<float>(h) * std::numbers::pi_v<float>);
-      float* cdf = &conditional_[static_cast<std::size_t>(y) * (wdt + 1)];
-      for (int x = 0; x < wdt; ++x) {
-        const Vec3f& t = map_->texel(x, y);
-        // A floor keeps every direction reachable, so the estimator stays unbiased.
-        const float w = (0.2126f * t.x + 0.7152f * t.y + 0.0722f * t.z + 1e-4f) * sin_theta;
-        weight_[static_cast<std::size_t>(y) * wdt + x] = w;
-        cdf[x + 1] = cdf[x] + w;
-      }
-      marginal_[y + 1] = marginal_[y] + cdf[wdt];
-      for (int x = 1; x <= wdt; ++x) cdf[x] = cdf[wdt] > 0.f ? cdf[x] / cdf[wdt] : static_cast<float>(x) / wdt;
-    }
-    total_ = marginal_[h];
-    for (int y = 1; y <= h; ++y) marginal_[y] = total_ > 0.f ? marginal_[y] / total_ : static_cast<float>(y) / h;
-    total_ /= static_cast<float>(wdt * h);  // mean weight, so weight/total is the texel's density in (u,v)
-  }
-
-  std::shared_ptr<const Texture2D> map_;
-  Vec3f up_{0.f, 1.f, 0.f}, direction_{0.f, 0.f, 1.f}, forward_{0.f, 0.f, 1.f}, side_{1.f, 0.f, 0.f};
-  std::vector<float> weight_, conditional_, marginal_;
-  float total_ = 0.f;
+/// The side of a cylinder from `position0` to `position1` (OSPRay `cylinder`), emitting
+/// outwards; its caps do not emit. `quantity` radiance, intensity or power.
+struct CylinderLight : LightCommon {
+  Vec3f position0{0.f, 0.f, 0.f};
+  Vec3f position1{0.f, 0.f, 1.f};
+  float radius = 1.f;
+  IntensityQuantity quantity = IntensityQuantity::radiance;
 };
 
-using Light = std::variant<AmbientLight, DistantLight, SphereLight, SpotLight, QuadLight, HdriLight>;
+using Light = std::variant<AmbientLight, DistantLight, SphereLight, SpotLight, QuadLight, CylinderLight, HdriLight>;
 
 inline const char* type_name(const Light& light) {
-  static constexpr const char* names[] = {"ambient", "distant", "sphere", "spot", "quad", "hdri"};
+  static constexpr const char* names[] = {"ambient", "distant", "sphere", "spot", "quad", "cylinder", "hdri"};
   return names[light.index()];
 }
 
 /// A default light of OSPRay type `type` among those described by parameters alone
-/// (ambient, distant, sphere, spot, quad; `hdri` needs its map); nullopt otherwise.
+/// (ambient, distant, sphere, spot, quad, cylinder; `hdri` needs its map, `sunSky` is a
+/// sky and a sun, render/sky.hpp); nullopt otherwise.
 inline std::optional<Light> light_of_type(std::string_view type) {
   if (type == "ambient") return AmbientLight{};
   if (type == "distant") return DistantLight{};
   if (type == "sphere") return SphereLight{};
   if (type == "spot") return SpotLight{};
   if (type == "quad") return QuadLight{};
+  if (type == "cylinder") return CylinderLight{};
   return std::nullopt;
 }
 
 /// Calls read(name, field) for every parameter of `light` under its OSPRay name (field:
-/// float&, bool& or Vec3f&); an `hdri` light's map, up and direction are set when it is
-/// constructed, so only its common parameters are listed.
+/// float&, bool& or Vec3f&). Not listed, as they are not plain values: `quantity`
+/// (intensityQuantity), `c0` and `distribution` (intensityDistribution), and an `hdri`
+/// light's map, up and direction, set when it is constructed.
 template <class Read>
 void for_each_parameter(Light& light, Read&& read) {
   std::visit(
@@ -198,12 +130,14 @@ void for_each_parameter(Light& light, Read&& read) {
         if constexpr (std::is_same_v<L, DistantLight>) {
           read("direction", l.direction), read("angularDiameter", l.angular_diameter);
         } else if constexpr (std::is_same_v<L, SphereLight>) {
-          read("position", l.position), read("radius", l.radius);
+          read("position", l.position), read("radius", l.radius), read("direction", l.direction);
         } else if constexpr (std::is_same_v<L, SpotLight>) {
           read("position", l.position), read("direction", l.direction), read("openingAngle", l.opening_angle);
-          read("penumbraAngle", l.penumbra_angle), read("radius", l.radius);
+          read("penumbraAngle", l.penumbra_angle), read("radius", l.radius), read("innerRadius", l.inner_radius);
         } else if constexpr (std::is_same_v<L, QuadLight>) {
           read("position", l.position), read("edge1", l.edge1), read("edge2", l.edge2);
+        } else if constexpr (std::is_same_v<L, CylinderLight>) {
+          read("position0", l.position0), read("position1", l.position1), read("radius", l.radius);
         }
       },
       light);
@@ -244,14 +178,31 @@ inline Vec3f sample_cosine(const Vec3f& n, float u1, float u2) {
   return t * (r * std::cos(phi)) + b * (r * std::sin(phi)) + n * std::sqrt(std::max(0.f, 1.f - u1));
 }
 
-inline float spot_falloff(const SpotLight& s, const Vec3f& from_light) {
-  const float cos_outer = std::cos(radians(0.5f * std::min(s.opening_angle, 360.f)));
-  const float cos_inner = std::cos(radians(std::max(0.f, 0.5f * std::min(s.opening_angle, 360.f) - s.penumbra_angle)));
-  const float c = dot(from_light, normalize(s.direction));
-  if (c <= cos_outer) return 0.f;
-  if (c >= cos_inner || cos_inner <= cos_outer) return 1.f;
-  const float x = (c - cos_outer) / (cos_inner - cos_outer);
-  return x * x * (3.f - 2.f * x);
+inline float cos_half_opening(const SpotLight& s) { return std::cos(radians(0.5f * std::min(s.opening_angle, 360.f))); }
+
+/// OSPRay's spot fall-off: linear in the cosine from the opening angle's edge over the
+/// penumbra (at most half the opening angle).
+inline float spot_falloff(const SpotLight& s, float cos_angle) {
+  const float half = 0.5f * std::min(s.opening_angle, 360.f);
+  const float cos_outer = std::cos(radians(half));
+  const float cos_inner = std::cos(radians(half - std::clamp(s.penumbra_angle, 0.f, half)));
+  if (cos_angle <= cos_outer) return 0.f;
+  if (cos_angle >= cos_inner) return 1.f;
+  return (cos_angle - cos_outer) / (cos_inner - cos_outer);
+}
+
+inline float ring_area(const SpotLight& s) { return pi * (s.radius * s.radius - s.inner_radius * s.inner_radius); }
+inline float lateral_area(const CylinderLight& c) { return 2.f * pi * c.radius * length(c.position1 - c.position0); }
+
+inline PhotometricFrame spot_frame(const SpotLight& s) {
+  return photometric_frame(s.direction, s.c0 ? *s.c0 : default_c0(s.direction));
+}
+inline PhotometricFrame sphere_frame(const SphereLight& s) {
+  return photometric_frame(s.direction, s.c0 ? *s.c0 : default_c0(s.direction));
+}
+/// A quad's table is measured around edge1 x edge2, c0 defaulting to edge2.
+inline PhotometricFrame quad_frame(const QuadLight& q) {
+  return photometric_frame(cross(q.edge1, q.edge2), q.c0 ? *q.c0 : q.edge2);
 }
 
 /// Ray-sphere distance (the near root in front of the origin) or inf.
@@ -268,38 +219,182 @@ inline float hit_sphere(const Vec3f& org, const Vec3f& dir, const Vec3f& center,
   return t0 > 0.f ? t0 : (t1 > 0.f ? t1 : std::numeric_limits<float>::infinity());
 }
 
+/// A sphere this small seen from a point is a point light to OSPRay, for precision: no
+/// surface to hit, its intensity over the squared distance.
+inline bool point_like(const SphereLight& s, float dist) { return !(s.radius > 0.005f * dist); }
+
+/// A point on a cylinder's side as seen from outside it: the cylinder's frame at the
+/// viewer, and the half-angle of the arc of the side that faces the viewer.
+struct CylinderView {
+  Vec3f axis, toward, across;  ///< unit axis; unit radial direction to the viewer; axis x toward
+  float height, half_arc;      ///< half_arc = acos(radius / distance to the axis)
+};
+inline std::optional<CylinderView> cylinder_view(const CylinderLight& c, const Vec3f& p) {
+  const Vec3f d = c.position1 - c.position0;
+  const float height = length(d);
+  const Vec3f axis = d / height;
+  const Vec3f radial = (p - c.position0) - axis * dot(p - c.position0, axis);
+  const float rho = length(radial);
+  if (!(rho > c.radius)) return std::nullopt;  // on or inside the tube: the side faces away
+  const Vec3f toward = radial / rho;
+  return CylinderView{axis, toward, cross(axis, toward), height, std::acos(c.radius / rho)};
+}
+
 }  // namespace detail
+
+/// Whether `light` takes `color * intensity` in quantity `q` (as OSPRay does).
+inline bool accepts(const Light& light, IntensityQuantity q) {
+  using Q = IntensityQuantity;
+  return std::visit(
+      [&](const auto& l) {
+        using L = std::decay_t<decltype(l)>;
+        if constexpr (std::is_same_v<L, AmbientLight>) return q == Q::radiance || q == Q::irradiance;
+        else if constexpr (std::is_same_v<L, DistantLight>) return q == Q::irradiance || q == Q::radiance;
+        else if constexpr (std::is_same_v<L, SphereLight>)
+          return l.distribution ? q == Q::scale : q == Q::intensity || q == Q::power || q == Q::radiance;
+        else if constexpr (std::is_same_v<L, SpotLight>)
+          return l.distribution ? q == Q::scale || q == Q::radiance
+                                : q == Q::intensity || q == Q::power || q == Q::radiance;
+        else if constexpr (std::is_same_v<L, QuadLight>)
+          return l.distribution ? q == Q::scale : q == Q::radiance || q == Q::intensity || q == Q::power;
+        else if constexpr (std::is_same_v<L, CylinderLight>)
+          return q == Q::radiance || q == Q::intensity || q == Q::power;
+        else return q == Q::scale || q == Q::radiance;
+      },
+      light);
+}
+
+/// What `light` emits, from `color * intensity` in its `quantity`: the radiance of
+/// ambient, quad, cylinder and hdri (its map's scale) lights, the irradiance of a
+/// distant light, the radiant intensity (W/sr, before any table or fall-off) of sphere
+/// and spot lights. Conversions are OSPRay's: a sphere's radiance is its intensity over
+/// its disk's area, a spot's over its ring's area and its power over the cosine-weighted
+/// cap of its opening angle (its emission carries a cosine), a quad's and a cylinder's
+/// intensity is the radiance times their area (times pi, their power).
+inline Vec3f emitted(const Light& light) {
+  using Q = IntensityQuantity;
+  using detail::pi;
+  return std::visit(
+      [&](const auto& l) -> Vec3f {
+        using L = std::decay_t<decltype(l)>;
+        const Vec3f ci = l.color * l.intensity;
+        if constexpr (std::is_same_v<L, AmbientLight>) {
+          return l.quantity == Q::irradiance ? ci / pi : ci;
+        } else if constexpr (std::is_same_v<L, DistantLight>) {
+          if (l.quantity != Q::radiance) return ci;
+          // The disk's solid angle 2 pi (1 - cos(a / 2)), as 4 pi sin^2(a / 4): no cancellation for a small a.
+          const float s = std::sin(detail::radians(0.25f * l.angular_diameter));
+          return ci * (4.f * pi * s * s);
+        } else if constexpr (std::is_same_v<L, SphereLight>) {
+          if (l.quantity == Q::power) return ci / (4.f * pi);
+          if (l.quantity == Q::radiance) return ci * (pi * l.radius * l.radius);
+          return ci;
+        } else if constexpr (std::is_same_v<L, SpotLight>) {
+          if (l.quantity == Q::radiance) return ci * detail::ring_area(l);
+          if (l.quantity == Q::power) {
+            const float c = detail::cos_half_opening(l);
+            return ci / (pi * (1.f - c * c));
+          }
+          return ci;
+        } else if constexpr (std::is_same_v<L, QuadLight>) {
+          const float area = length(cross(l.edge1, l.edge2));
+          if (l.quantity == Q::intensity || l.quantity == Q::scale) return ci / area;
+          if (l.quantity == Q::power) return ci / (pi * area);
+          return ci;
+        } else if constexpr (std::is_same_v<L, CylinderLight>) {
+          const float area = detail::lateral_area(l);
+          if (l.quantity == Q::intensity) return ci * (pi / area);
+          if (l.quantity == Q::power) return ci / (pi * area);
+          return ci;
+        } else {
+          return ci;
+        }
+      },
+      light);
+}
+
+/// `light` placed by an instance's transform: points and vectors transformed, sizes given
+/// by radii kept (as OSPRay). What a quad or cylinder emits was fixed by its own size
+/// (when given as intensity or power): scaled, it keeps its radiance.
+inline Light transformed(const Light& light, const Affine3f& xfm) {
+  using Q = IntensityQuantity;
+  return std::visit(
+      [&](const auto& l) -> Light {
+        using L = std::decay_t<decltype(l)>;
+        L out = l;
+        if constexpr (std::is_same_v<L, DistantLight>) {
+          out.direction = xfm.vector(l.direction);
+        } else if constexpr (std::is_same_v<L, SphereLight> || std::is_same_v<L, SpotLight>) {
+          out.position = xfm.point(l.position);
+          out.direction = xfm.vector(l.direction);
+          out.c0 = xfm.vector(l.c0 ? *l.c0 : default_c0(l.direction));
+        } else if constexpr (std::is_same_v<L, QuadLight>) {
+          out.position = xfm.point(l.position);
+          out.edge1 = xfm.vector(l.edge1), out.edge2 = xfm.vector(l.edge2);
+          if (l.c0) out.c0 = xfm.vector(*l.c0);
+          if (l.quantity != Q::radiance)
+            out.intensity *= length(cross(out.edge1, out.edge2)) / length(cross(l.edge1, l.edge2));
+        } else if constexpr (std::is_same_v<L, CylinderLight>) {
+          out.position0 = xfm.point(l.position0), out.position1 = xfm.point(l.position1);
+          if (l.quantity != Q::radiance) out.intensity *= detail::lateral_area(out) / detail::lateral_area(l);
+        } else if constexpr (std::is_same_v<L, HdriLight>) {
+          out = l.rotated(xfm);
+        }
+        return out;
+      },
+      light);
+}
 
 /// Throws an Error naming the first bad parameter of `light`.
 inline void validate(const Light& light) {
   const std::string type = type_name(light);
-  const auto fail = [&](const char* parameter, const char* what) {
+  const auto fail = [&](const char* parameter, const std::string& what) {
     throw Error(type + " light: parameter '" + parameter + "' " + what);
   };
   const auto finite = [](const Vec3f& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); };
+  const auto finite_nonnegative = [](float x) { return x >= 0.f && std::isfinite(x); };
   std::visit(
       [&](const auto& l) {
         using L = std::decay_t<decltype(l)>;
         if (!finite(l.color) || l.color.x < 0.f || l.color.y < 0.f || l.color.z < 0.f)
           fail("color", "must be finite and not negative");
-        if (!(l.intensity >= 0.f) || !std::isfinite(l.intensity)) fail("intensity", "must be finite and not negative");
+        if (!finite_nonnegative(l.intensity)) fail("intensity", "must be finite and not negative");
+        if (!accepts(light, l.quantity)) {
+          std::string why = "value " + std::to_string(static_cast<int>(l.quantity)) + " is not supported by " + type;
+          if constexpr (std::is_same_v<L, SphereLight> || std::is_same_v<L, SpotLight> || std::is_same_v<L, QuadLight>)
+            why += l.distribution ? " lights with 'intensityDistribution'" : " lights without 'intensityDistribution'";
+          else
+            why += " lights";
+          fail("intensityQuantity", why);
+        }
         if constexpr (std::is_same_v<L, DistantLight>) {
           if (!finite(l.direction) || length(l.direction) == 0.f) fail("direction", "must be a finite non-zero vector");
           if (!(l.angular_diameter >= 0.f && l.angular_diameter < 180.f))
             fail("angularDiameter", "must be in [0, 180) degrees");
         } else if constexpr (std::is_same_v<L, SphereLight>) {
           if (!finite(l.position)) fail("position", "must be finite");
-          if (!(l.radius >= 0.f) || !std::isfinite(l.radius)) fail("radius", "must be finite and not negative");
+          if (!finite_nonnegative(l.radius)) fail("radius", "must be finite and not negative");
+          if (!finite(l.direction) || length(l.direction) == 0.f) fail("direction", "must be a finite non-zero vector");
+          if (l.c0 && (!finite(*l.c0) || length(*l.c0) == 0.f)) fail("c0", "must be a finite non-zero vector");
         } else if constexpr (std::is_same_v<L, SpotLight>) {
           if (!finite(l.position)) fail("position", "must be finite");
           if (!finite(l.direction) || length(l.direction) == 0.f) fail("direction", "must be a finite non-zero vector");
           if (!(l.opening_angle > 0.f && l.opening_angle <= 360.f)) fail("openingAngle", "must be in (0, 360] degrees");
-          if (!(l.penumbra_angle >= 0.f) || !std::isfinite(l.penumbra_angle)) fail("penumbraAngle", "must not be negative");
-          if (!(l.radius >= 0.f) || !std::isfinite(l.radius)) fail("radius", "must be finite and not negative");
+          if (!finite_nonnegative(l.penumbra_angle)) fail("penumbraAngle", "must not be negative");
+          if (!finite_nonnegative(l.radius)) fail("radius", "must be finite and not negative");
+          if (!finite_nonnegative(l.inner_radius) || (l.inner_radius > 0.f && !(l.inner_radius < l.radius)))
+            fail("innerRadius", "must be in [0, radius)");
+          if (l.c0 && (!finite(*l.c0) || length(*l.c0) == 0.f)) fail("c0", "must be a finite non-zero vector");
         } else if constexpr (std::is_same_v<L, QuadLight>) {
           if (!finite(l.position)) fail("position", "must be finite");
           if (!finite(l.edge1) || !finite(l.edge2) || length(cross(l.edge1, l.edge2)) == 0.f)
             fail("edge1", "and 'edge2' must be finite and span a parallelogram of non-zero area");
+          if (l.c0 && (!finite(*l.c0) || length(*l.c0) == 0.f)) fail("c0", "must be a finite non-zero vector");
+        } else if constexpr (std::is_same_v<L, CylinderLight>) {
+          if (!finite(l.position0)) fail("position0", "must be finite");
+          if (!finite(l.position1) || !(length(l.position1 - l.position0) > 0.f))
+            fail("position1", "must be finite and differ from 'position0'");
+          if (!(l.radius > 0.f) || !std::isfinite(l.radius)) fail("radius", "must be finite and positive");
         } else if constexpr (std::is_same_v<L, HdriLight>) {
           if (!l.map()) fail("map", "is missing");
         }
@@ -313,65 +408,70 @@ inline void validate(const Light& light) {
 inline std::optional<LightSample> sample(const Light& light, const Vec3f& p, const Vec3f& n, float u1, float u2) {
   using detail::pi;
   constexpr float inf = std::numeric_limits<float>::infinity();
+  const Vec3f emission = emitted(light);
   return std::visit(
       [&](const auto& l) -> std::optional<LightSample> {
         using L = std::decay_t<decltype(l)>;
-        const Vec3f power = l.color * l.intensity;
         if constexpr (std::is_same_v<L, AmbientLight>) {
           if (dot(n, n) == 0.f) {  // a point in a medium: light from the whole sphere
             const float z = 1.f - 2.f * u1, r = std::sqrt(std::max(0.f, 1.f - z * z)), phi = 2.f * pi * u2;
             const float pdf = 1.f / (4.f * pi);
-            return LightSample{{r * std::cos(phi), r * std::sin(phi), z}, inf, power / pdf, pdf};
+            return LightSample{{r * std::cos(phi), r * std::sin(phi), z}, inf, emission / pdf, pdf};
           }
           const Vec3f w = detail::sample_cosine(n, u1, u2);
           const float pdf = dot(w, n) / pi;
           if (!(pdf > 0.f)) return std::nullopt;
-          return LightSample{w, inf, power / pdf, pdf};
+          return LightSample{w, inf, emission / pdf, pdf};
         } else if constexpr (std::is_same_v<L, DistantLight>) {
           const Vec3f to_light = -normalize(l.direction);
-          if (l.angular_diameter <= 0.f) return LightSample{to_light, inf, power, inf};
+          if (l.angular_diameter <= 0.f) return LightSample{to_light, inf, emission, inf};
           const float cos_max = std::cos(detail::radians(0.5f * l.angular_diameter));
           const float solid_angle = 2.f * pi * (1.f - cos_max);
           // Irradiance spread evenly over the disk: radiance = E / solid angle.
-          return LightSample{detail::sample_cone(to_light, cos_max, u1, u2), inf, power, 1.f / solid_angle};
+          return LightSample{detail::sample_cone(to_light, cos_max, u1, u2), inf, emission, 1.f / solid_angle};
         } else if constexpr (std::is_same_v<L, SphereLight>) {
           const Vec3f d = l.position - p;
           const float dist2 = dot(d, d), dist = std::sqrt(dist2);
           if (!(dist > l.radius)) return std::nullopt;  // inside the light
-          if (l.radius <= 0.f) return LightSample{d / dist, dist, power / dist2, inf};
-          const float sin2 = l.radius * l.radius / dist2;
-          const float cos_max = std::sqrt(std::max(0.f, 1.f - sin2));
-          const float solid_angle = 2.f * pi * (1.f - cos_max);
-          const Vec3f w = detail::sample_cone(d / dist, cos_max, u1, u2);
-          const float t = detail::hit_sphere(p, w, l.position, l.radius);
-          const Vec3f radiance = power / (pi * l.radius * l.radius);
-          return LightSample{w, std::isfinite(t) ? t : dist, radiance * solid_angle, 1.f / solid_angle};
-        } else if constexpr (std::is_same_v<L, SpotLight>) {
-          const Vec3f axis = normalize(l.direction);
-          if (l.radius <= 0.f) {
-            const Vec3f d = l.position - p;
-            const float dist2 = dot(d, d), dist = std::sqrt(dist2);
-            if (!(dist > 0.f)) return std::nullopt;
-            const float falloff = detail::spot_falloff(l, -d / dist);
-            if (falloff <= 0.f) return std::nullopt;
-            return LightSample{d / dist, dist, power * (falloff / dist2), inf};
+          LightSample s;
+          if (detail::point_like(l, dist)) {
+            s = {d / dist, dist, emission / dist2, inf};
+          } else {
+            const float cos_max = std::sqrt(std::max(0.f, 1.f - l.radius * l.radius / dist2));
+            const float solid_angle = 2.f * pi * (1.f - cos_max);
+            const Vec3f w = detail::sample_cone(d / dist, cos_max, u1, u2);
+            const float t = detail::hit_sphere(p, w, l.position, l.radius);
+            const Vec3f radiance = emission / (pi * l.radius * l.radius);
+            s = {w, std::isfinite(t) ? t : dist, radiance * solid_angle, 1.f / solid_angle};
           }
-          // A disk facing `direction`, its area sampled uniformly.
-          const float r = l.radius * std::sqrt(u1), phi = 2.f * pi * u2;
-          const Vec3f t = perpendicular(axis), b = cross(axis, t);
-          const Vec3f q = l.position + t * (r * std::cos(phi)) + b * (r * std::sin(phi));
+          if (l.distribution) {
+            const PhotometricFrame f = detail::sphere_frame(l);
+            s.weight = s.weight * l.distribution(f, -dot(f.axis, s.dir), -s.dir);
+          }
+          return s;
+        } else if constexpr (std::is_same_v<L, SpotLight>) {
+          const PhotometricFrame f = detail::spot_frame(l);
+          Vec3f q = l.position;
+          if (l.radius > 0.f) {
+            // OSPRay's ring parametrization: u1 the squared radius, u2 the angle from c0.
+            const float r = std::sqrt(l.inner_radius * l.inner_radius +
+                                      u1 * (l.radius * l.radius - l.inner_radius * l.inner_radius));
+            const float phi = 2.f * pi * u2;
+            q = q + f.c0 * (r * std::cos(phi)) + f.c90 * (r * std::sin(phi));
+          }
           const Vec3f d = q - p;
           const float dist2 = dot(d, d), dist = std::sqrt(dist2);
           if (!(dist > 0.f)) return std::nullopt;
           const Vec3f w = d / dist;
-          const float cos_light = -dot(w, axis);
-          if (cos_light <= 0.f) return std::nullopt;
-          const float falloff = detail::spot_falloff(l, -w);
-          if (falloff <= 0.f) return std::nullopt;
-          const float area = pi * l.radius * l.radius;
-          const float pdf = dist2 / (cos_light * area);
-          const Vec3f radiance = power * (falloff / area);  // intensity / projected area
-          return LightSample{w, dist, radiance / pdf, pdf};
+          const float cos_angle = -dot(w, f.axis);
+          float shape = detail::spot_falloff(l, cos_angle);
+          if (shape <= 0.f) return std::nullopt;
+          // A table replaces the Lambertian cosine the plain spot emits with.
+          shape *= l.distribution ? l.distribution(f, cos_angle, -w) : std::abs(cos_angle);
+          if (l.radius <= 0.f) return LightSample{w, dist, emission * (shape / dist2), inf};
+          const float pdf = dist2 / (std::abs(cos_angle) * detail::ring_area(l));
+          // Radiance I / (ring area * cos): the ring's cosine cancels the intensity's.
+          return LightSample{w, dist, emission * (shape / dist2), pdf};
         } else if constexpr (std::is_same_v<L, QuadLight>) {
           const Vec3f q = l.position + l.edge1 * u1 + l.edge2 * u2;
           const Vec3f normal_area = cross(l.edge1, l.edge2);
@@ -381,14 +481,34 @@ inline std::optional<LightSample> sample(const Light& light, const Vec3f& p, con
           if (!(dist > 0.f)) return std::nullopt;
           const Vec3f w = d / dist;
           const float cos_light = -dot(w, normal_area) / area;
+          if (l.distribution) {  // both sides, radiance = table / cos: weight independent of the cosine
+            const float shape = l.distribution(detail::quad_frame(l), cos_light, -w);
+            if (!(std::abs(cos_light) > 0.f)) return std::nullopt;
+            return LightSample{w, dist, emission * (shape * area / dist2), dist2 / (std::abs(cos_light) * area)};
+          }
           if (cos_light <= 0.f) return std::nullopt;  // the back of the quad
           const float pdf = dist2 / (cos_light * area);
-          return LightSample{w, dist, power / pdf, pdf};
+          return LightSample{w, dist, emission / pdf, pdf};
+        } else if constexpr (std::is_same_v<L, CylinderLight>) {
+          // The facing arc of the side, area-uniformly; the samples' origin shifted by a
+          // half period so that (0, 0) is the middle of the arc, halfway up.
+          const auto view = detail::cylinder_view(l, p);
+          if (!view) return std::nullopt;
+          const float z = view->height * (u1 < 0.5f ? u1 + 0.5f : u1 - 0.5f);
+          const float phi = view->half_arc * (2.f * (u2 < 0.5f ? u2 + 0.5f : u2 - 0.5f) - 1.f);
+          const Vec3f normal = view->toward * std::cos(phi) + view->across * std::sin(phi);
+          const Vec3f d = l.position0 + view->axis * z + normal * l.radius - p;
+          const float dist2 = dot(d, d), dist = std::sqrt(dist2);
+          const Vec3f w = d / dist;
+          const float cos_light = -dot(w, normal);
+          if (!(cos_light > 0.f)) return std::nullopt;
+          const float pdf = dist2 / (cos_light * 2.f * view->half_arc * l.radius * view->height);
+          return LightSample{w, dist, emission / pdf, pdf};
         } else {
           static_assert(std::is_same_v<L, HdriLight>);
           const auto s = l.sample(u1, u2);
           if (!(s.pdf > 0.f)) return std::nullopt;
-          return LightSample{s.w, inf, power * l.lookup(s.w) / s.pdf, s.pdf};
+          return LightSample{s.w, inf, emission * l.lookup(s.w) / s.pdf, s.pdf};
         }
       },
       light);
@@ -400,46 +520,51 @@ inline LightEval eval(const Light& light, const Vec3f& p, const Vec3f& n, const 
   using detail::pi;
   constexpr LightEval none{{0.f, 0.f, 0.f}, 0.f};
   constexpr float inf = std::numeric_limits<float>::infinity();
+  const Vec3f emission = emitted(light);
   return std::visit(
       [&](const auto& l) -> LightEval {
         using L = std::decay_t<decltype(l)>;
-        const Vec3f power = l.color * l.intensity;
         if constexpr (std::is_same_v<L, AmbientLight>) {
           if (max_dist < inf) return none;
-          return {power, dot(n, n) == 0.f ? 1.f / (4.f * pi) : std::max(0.f, dot(w, n)) / pi};
+          return {emission, dot(n, n) == 0.f ? 1.f / (4.f * pi) : std::max(0.f, dot(w, n)) / pi};
         } else if constexpr (std::is_same_v<L, DistantLight>) {
           if (max_dist < inf || l.angular_diameter <= 0.f) return none;
           const float cos_max = std::cos(detail::radians(0.5f * l.angular_diameter));
           if (dot(w, -normalize(l.direction)) < cos_max) return none;
           const float solid_angle = 2.f * pi * (1.f - cos_max);
-          return {power / solid_angle, 1.f / solid_angle};
+          return {emission / solid_angle, 1.f / solid_angle};
         } else if constexpr (std::is_same_v<L, SphereLight>) {
-          if (l.radius <= 0.f) return none;
-          const float t = detail::hit_sphere(p, w, l.position, l.radius);
-          if (!(t < max_dist)) return none;
           const Vec3f d = l.position - p;
           const float dist2 = dot(d, d);
-          if (dist2 <= l.radius * l.radius) return none;
+          if (l.radius <= 0.f || dist2 <= l.radius * l.radius || detail::point_like(l, std::sqrt(dist2))) return none;
+          const float t = detail::hit_sphere(p, w, l.position, l.radius);
+          if (!(t < max_dist)) return none;
           const float cos_max = std::sqrt(std::max(0.f, 1.f - l.radius * l.radius / dist2));
-          return {power / (pi * l.radius * l.radius), 1.f / (2.f * pi * (1.f - cos_max))};
+          Vec3f radiance = emission / (pi * l.radius * l.radius);
+          if (l.distribution) {
+            const PhotometricFrame f = detail::sphere_frame(l);
+            radiance = radiance * l.distribution(f, -dot(f.axis, w), -w);
+          }
+          return {radiance, 1.f / (2.f * pi * (1.f - cos_max))};
         } else if constexpr (std::is_same_v<L, SpotLight>) {
           if (l.radius <= 0.f) return none;
-          const Vec3f axis = normalize(l.direction);
-          const float denom = dot(w, axis);
-          if (denom >= 0.f) return none;  // the disk emits along its axis only
-          const float t = dot(l.position - p, axis) / denom;
+          const PhotometricFrame f = detail::spot_frame(l);
+          const float cos_angle = -dot(w, f.axis);
+          const float falloff = detail::spot_falloff(l, cos_angle);
+          if (falloff <= 0.f) return none;
+          const float t = dot(p - l.position, f.axis) / cos_angle;
           if (!(t > 0.f && t < max_dist)) return none;
-          const Vec3f q = p + w * t;
-          const Vec3f r = q - l.position;
-          if (dot(r, r) > l.radius * l.radius) return none;
-          const float falloff = detail::spot_falloff(l, -w);
-          const float area = pi * l.radius * l.radius;
-          return {power * (falloff / area), t * t / (-denom * area)};
+          const Vec3f r = p + w * t - l.position;
+          const float r2 = dot(r, r);
+          if (r2 > l.radius * l.radius || r2 < l.inner_radius * l.inner_radius) return none;
+          const float area = detail::ring_area(l);
+          const float shape = l.distribution ? l.distribution(f, cos_angle, -w) / std::abs(cos_angle) : 1.f;
+          return {emission * (falloff * shape / area), t * t / (std::abs(cos_angle) * area)};
         } else if constexpr (std::is_same_v<L, QuadLight>) {
           const Vec3f normal_area = cross(l.edge1, l.edge2);
           const float area = length(normal_area);
           const float denom = dot(w, normal_area);
-          if (denom >= 0.f) return none;
+          if (denom >= 0.f && !l.distribution) return none;  // the back emits only with a table
           const float t = dot(l.position - p, normal_area) / denom;
           if (!(t > 0.f && t < max_dist)) return none;
           // Barycentric-like coordinates of the hit in the parallelogram.
@@ -448,11 +573,34 @@ inline LightEval eval(const Light& light, const Vec3f& p, const Vec3f& n, const 
           const float a = dot(r, c1) / dot(l.edge1, c1), b = dot(r, c2) / dot(l.edge2, c2);
           if (a < 0.f || a > 1.f || b < 0.f || b > 1.f) return none;
           const float cos_light = -denom / area;
-          return {power, t * t / (cos_light * area)};
+          const float shape =
+              l.distribution ? l.distribution(detail::quad_frame(l), cos_light, -w) / std::abs(cos_light) : 1.f;
+          return {emission * shape, t * t / (std::abs(cos_light) * area)};
+        } else if constexpr (std::is_same_v<L, CylinderLight>) {
+          const auto view = detail::cylinder_view(l, p);
+          if (!view) return none;
+          // The near root of |(p + w t - p0) x axis| = radius: entering the side.
+          const Vec3f o = p - l.position0;
+          const Vec3f op = o - view->axis * dot(o, view->axis), wp = w - view->axis * dot(w, view->axis);
+          const float a = dot(wp, wp), b = dot(op, wp), c = dot(op, op) - l.radius * l.radius;
+          if (!(a > 0.f)) return none;
+          // b^2 - a c from the ray's closest approach to the axis: no cancellation at grazing
+          // incidence (the stable form of Ray Tracing Gems ch. 7).
+          const Vec3f closest = op - wp * (b / a);
+          const float disc = a * (l.radius * l.radius - dot(closest, closest));
+          if (disc < 0.f) return none;
+          const float t = c / (-b + std::sqrt(disc));  // = (-b - sqrt(disc)) / a, stable for b < 0
+          if (!(t > 0.f && t < max_dist)) return none;
+          const float z = dot(o + w * t, view->axis);
+          if (z < 0.f || z > view->height) return none;
+          const Vec3f normal = (op + wp * t) / l.radius;
+          const float cos_light = -dot(w, normal);
+          if (!(cos_light > 0.f)) return none;
+          return {emission, t * t / (cos_light * 2.f * view->half_arc * l.radius * view->height)};
         } else {
           static_assert(std::is_same_v<L, HdriLight>);
           if (max_dist < inf) return none;
-          return {power * l.lookup(w), l.pdf(w)};
+          return {emission * l.lookup(w), l.pdf(w)};
         }
       },
       light);

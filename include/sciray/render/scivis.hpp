@@ -96,7 +96,7 @@ public:
     for (const Light& l : params_.lights) {
       if (const auto* h = std::get_if<HdriLight>(&l); h && h->visible && !environment_) environment_ = h;
       if (const auto* a = std::get_if<AmbientLight>(&l))
-        ambient_ = ambient_ + a->color * a->intensity;
+        ambient_ = ambient_ + emitted(l);
       else
         direct_lights_.push_back(&l);
     }
@@ -318,7 +318,7 @@ private:
                     Vec3<F>& wi, Vec3<F>& weight, F& dist) const {
     if (const auto* d = std::get_if<DistantLight>(&light); d && d->angular_diameter <= 0.f) {
       wi = Vec3<F>(-normalize(d->direction));
-      weight = Vec3<F>(d->color * d->intensity);
+      weight = Vec3<F>(emitted(light));
       dist = F(std::numeric_limits<float>::infinity());
       return true;
     }
