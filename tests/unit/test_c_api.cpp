@@ -172,7 +172,7 @@ TEST_CASE("a scene built through the C API renders what the engine renders", "[c
   camera.direction = {0.f, 0.f, -1.f};
   camera.fovy = 40.f;
   camera.aspect = 1.f;  // OSPRay's default: the application did not set it
-  sciray::FrameBuffer fb(64, 48, sciray::ColorFormat::srgba, sciray::channel_color);
+  sciray::FrameBuffer fb(64, 48, sciray::ColorFormat::gamma22, sciray::channel_color);  // OSP_FB_SRGBA
   sciray::shim::kernels(sciray::shim::select_isa()).render_scivis(world, params, camera, fb, nullptr);
   CHECK(fb.color8() == image);
 }
@@ -257,7 +257,9 @@ TEST_CASE("futures: progress, waiting, cancelling, duration", "[c_api][future]")
   ospRelease(fb);
 
   // With a variance channel the estimate appears after two frames and shrinks as the
-  // jittered frames average out the silhouettes.
+  // frames' sample points (OSPRay's Halton points) average out the silhouettes: more
+  // slowly than the error itself, which falls about as 1/frames (see the
+  // [frame][variance] tests), so by a quarter from 4 to 64 frames at least.
   OSPFrameBuffer accumulating = ospNewFrameBuffer(96, 96, OSP_FB_SRGBA, OSP_FB_COLOR | OSP_FB_ACCUM | OSP_FB_VARIANCE);
   CHECK(std::isinf(ospRenderFrameBlocking(accumulating, scene.renderer, scene.camera, scene.world)));
   const float after_two = ospRenderFrameBlocking(accumulating, scene.renderer, scene.camera, scene.world);
@@ -265,7 +267,7 @@ TEST_CASE("futures: progress, waiting, cancelling, duration", "[c_api][future]")
   CHECK(after_two > 0.f);
   std::vector<float> estimates{after_two};
   for (int f = 2; f < 64; ++f) estimates.push_back(ospRenderFrameBlocking(accumulating, scene.renderer, scene.camera, scene.world));
-  CHECK(estimates.back() < 0.5f * estimates[2]);
+  CHECK(estimates.back() < 0.75f * estimates[2]);
   ospResetAccumulation(accumulating);
   CHECK(std::isinf(ospGetVariance(accumulating)));
   ospRelease(accumulating);

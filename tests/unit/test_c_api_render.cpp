@@ -303,3 +303,25 @@ TEST_CASE("bad lights, materials, textures and renderer parameters are named", "
                                                       textured, renderer, pathtracer})
     ospRelease(o);
 }
+
+TEST_CASE("scivis visibleLights: camera rays see a quad light's radiance, as OSPRay's scivis", "[c_api][renderers]") {
+  ApiFixture api;
+  FloorScene scene(nullptr);
+  // A 2x2 quad light one unit above the floor, emitting upwards, towards the camera.
+  OSPLight light = ospNewLight("quad");
+  ospSetVec3f(light, "position", -1.f, 1.f, -1.f);
+  ospSetVec3f(light, "edge1", 0.f, 0.f, 2.f);
+  ospSetVec3f(light, "edge2", 2.f, 0.f, 0.f);  // edge1 x edge2 points up
+  ospSetFloat(light, "intensity", 5.f);
+  ospCommit(light);
+  scene.set_lights({light});
+  OSPRenderer scivis = ospNewRenderer("scivis");
+  ospCommit(scivis);
+  CHECK(scene.render(scivis)[1] == 0.f);  // the floor below gets no light; the light is not seen
+  ospSetBool(scivis, "visibleLights", true);
+  ospCommit(scivis);
+  const auto seen = scene.render(scivis);
+  for (int c = 0; c < 3; ++c) CHECK(seen[c] == Approx(5.f).epsilon(1e-5));
+  CHECK(api.messages.errors.empty());
+  ospRelease(scivis);
+}

@@ -9,7 +9,7 @@ ColorFormat color_format(OSPFrameBufferFormat format) {
   switch (format) {
     case OSP_FB_NONE: return ColorFormat::none;
     case OSP_FB_RGBA8: return ColorFormat::rgba8;
-    case OSP_FB_SRGBA: return ColorFormat::srgba;
+    case OSP_FB_SRGBA: return ColorFormat::gamma22;  // OSPRay's encoding, not the sRGB curve
     case OSP_FB_RGBA32F: return ColorFormat::rgba32f;
   }
   throw Error("frame buffer: unknown format " + std::to_string(static_cast<unsigned>(format)));

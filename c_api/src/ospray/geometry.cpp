@@ -223,13 +223,23 @@ void Geometry::commit_curves() {
     std::memcpy(&v, index->element(s), sizeof v);  // a negative int becomes out of range
     data->indices.push_back(v);
   }
-  // Per-vertex arrays longer than the vertices are accepted (OSPRay reads what it needs).
+  // Per-vertex arrays need to cover only the vertices the segments use (OSPRay reads
+  // what it needs): longer ones are cut, shorter ones padded past the last vertex used.
   const std::size_t vertices = data->vertex_count();
+  const std::uint32_t span = data->basis == CurveBasis::linear || data->basis == CurveBasis::hermite ? 2 : 4;
+  std::size_t used = 0;
+  for (std::uint32_t first : data->indices)
+    used = std::max(used, std::min<std::size_t>(vertices, static_cast<std::size_t>(first) + span));
+  const auto per_vertex = [&](PaddedVector<float>& out, const char* id, const Data& array, int components, int pad_to,
+                              float fill) {
+    append_per_item(out, *this, id, array, std::min(used, vertices), "vertices the segments use", false, components,
+                    pad_to);
+    out.resize(static_cast<std::size_t>(pad_to) * vertices, fill);
+  };
   if (const Data* color = get_data(*this, find("vertex.color"), "vertex.color", {OSP_VEC4F, OSP_VEC3F}))
-    append_per_item(data->colors, *this, "vertex.color", *color, vertices, "vertices", false,
-                    color->element_type() == OSP_VEC4F ? 4 : 3, 4);
-  if (tangent) append_per_item(data->tangents, *this, "vertex.tangent", *tangent, vertices, "vertices", false, 4);
-  if (normal) append_per_item(data->normals, *this, "vertex.normal", *normal, vertices, "vertices", false, 3);
+    per_vertex(data->colors, "vertex.color", *color, color->element_type() == OSP_VEC4F ? 4 : 3, 4, 1.f);
+  if (tangent) per_vertex(data->tangents, "vertex.tangent", *tangent, 4, 4, 0.f);
+  if (normal) per_vertex(data->normals, "vertex.normal", *normal, 3, 3, 0.f);
 
   Curves check(data);
   try {
@@ -291,12 +301,36 @@ void GeometricModel::on_commit() {
   if (!geometry->committed()) throw Error(name() + ": its geometry has not been committed");
   // `material`: one OSPMaterial, or indices into the renderer's `material` list, either
   // one for all primitives or one per primitive (OSPRay's material lists).
+  // `index`: per primitive, which element of `material` and `color` it takes (OSPRay's
+  // indirection; the lists may then be shorter than the primitives).
+  const std::size_t primitives = geometry->primitive_count();
+  std::vector<std::uint32_t> slots;
+  if (const Data* index = get_data(*this, find("index"), "index", {OSP_UCHAR, OSP_UINT})) {
+    per_item_count(*this, "index", *index, primitives, "primitives");
+    for (std::size_t p = 0; p < primitives; ++p) {
+      std::uint32_t slot = 0;
+      if (index->element_type() == OSP_UCHAR)
+        slot = static_cast<std::uint8_t>(*index->element(p));
+      else
+        std::memcpy(&slot, index->element(p), sizeof slot);
+      slots.push_back(slot);
+    }
+  }
+  // The element of a list of `size` that primitive p takes (by `index`), range-checked.
+  const auto slot_of = [&](std::size_t p, std::size_t size, const char* id) {
+    const std::uint32_t slot = slots[p];
+    if (slot >= size)
+      throw Error(name() + ": parameter 'index' element " + std::to_string(p) + " is " + std::to_string(slot) +
+                  ", but '" + id + "' has " + std::to_string(size) + " elements");
+    return static_cast<std::size_t>(slot);
+  };
+
   Ref<Material> material;
   std::vector<MaterialChoice> choices;
   if (const Data* list = get_data(*this, find("material"), "material", {OSP_MATERIAL, OSP_UINT, OSP_INT})) {
     const bool objects = list->element_type() == OSP_MATERIAL;
-    const std::size_t given =
-        per_item_count(*this, "material", *list, geometry->primitive_count(), "primitives", true);
+    const std::size_t given = !slots.empty() ? list->size()
+                                             : per_item_count(*this, "material", *list, primitives, "primitives", true);
     for (std::size_t i = 0; i < given; ++i) {
       MaterialChoice choice{nullptr, 0};
       if (objects) {
@@ -312,6 +346,11 @@ void GeometricModel::on_commit() {
         choice.renderer_index = static_cast<std::uint32_t>(index);
       }
       choices.push_back(std::move(choice));
+    }
+    if (!slots.empty() && choices.size() > 1) {
+      std::vector<MaterialChoice> per_primitive;
+      for (std::size_t p = 0; p < primitives; ++p) per_primitive.push_back(choices[slot_of(p, choices.size(), "material")]);
+      choices = std::move(per_primitive);
     }
     if (choices.size() == 1 && choices[0].object) {
       material = choices[0].object;
@@ -330,9 +369,13 @@ void GeometricModel::on_commit() {
     if (color->size() == 1 && (!per_primitive || alpha == 1.f)) {
       uniform_color = {read_float(color->element(0)), read_float(color->element(0) + 4),
                        read_float(color->element(0) + 8), alpha};
+    } else if (per_primitive && !slots.empty()) {
+      for (std::size_t p = 0; p < primitives; ++p) {
+        const std::byte* e = color->element(slot_of(p, color->size(), "color"));
+        for (int c = 0; c < 4; ++c) face_colors.push_back(c < components ? read_float(e + 4 * c) : 1.f);
+      }
     } else if (per_primitive) {
-      append_per_item(face_colors, *this, "color", *color, geometry->primitive_count(), "primitives", true,
-                      components, 4);
+      append_per_item(face_colors, *this, "color", *color, primitives, "primitives", true, components, 4);
     } else {
       throw Error(name() + ": parameter 'color' has " + std::to_string(color->size()) + " colours; " +
                   geometry->subtype() + " geometry takes one colour for all its primitives (per-primitive colours "

@@ -28,6 +28,7 @@ void Renderer::on_commit() {
   if (subtype() == "scivis") {
     SciVisParams p = common(SciVisParams{});
     p.shadows = get_bool("shadows", p.shadows);
+    p.visible_lights = get_bool("visibleLights", p.visible_lights);
     p.ao_samples = get_int("aoSamples", p.ao_samples);
     p.ao_distance = get_float("aoDistance", p.ao_distance);
     config = p;

@@ -9,6 +9,7 @@
 // can stop sampling tiles whose estimated error is small enough while the others go on;
 // every average is taken over its own tile's frames.
 #include <algorithm>
+#include <bit>
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -26,7 +27,9 @@
 
 namespace sciray {
 
-enum class ColorFormat { none, rgba8, srgba, rgba32f };
+/// `srgba` encodes colour with the sRGB curve; `gamma22` as OSPRay's OSP_FB_SRGBA does,
+/// linear^(1/2.2), which lifts dark tones (linear 0.001 is 11/255 against sRGB's 3/255).
+enum class ColorFormat { none, rgba8, srgba, rgba32f, gamma22 };
 
 /// Channel flags beyond colour, with OSPRay's OSPFrameBufferChannel bits.
 enum Channel : unsigned {
@@ -48,15 +51,17 @@ inline constexpr int tile_size = 16;
 inline constexpr std::uint32_t no_id = 0xFFFFFFFFu;
 
 namespace detail {
-/// sRGB encoding through a table indexed by the linear value quantized to 16 bits:
-/// a std::pow per channel would cost as much as tracing the ray.
-inline const std::array<std::uint8_t, 65536>& srgb_table() {
-  static const auto table = [] {
+/// sRGB (or OSPRay's gamma 2.2) encoding through a table indexed by the linear value
+/// quantized to 16 bits: a std::pow per channel would cost as much as tracing the ray.
+inline const std::array<std::uint8_t, 65536>& encoding_table(ColorFormat format) {
+  const auto make = [](auto encode) {
     std::array<std::uint8_t, 65536> t{};
-    for (std::size_t i = 0; i < t.size(); ++i) t[i] = to_unorm8(linear_to_srgb(static_cast<float>(i) / 65535.f));
+    for (std::size_t i = 0; i < t.size(); ++i) t[i] = to_unorm8(encode(static_cast<float>(i) / 65535.f));
     return t;
-  }();
-  return table;
+  };
+  static const auto srgb = make([](float v) { return linear_to_srgb(v); });
+  static const auto gamma = make([](float v) { return std::pow(v, 1.f / 2.2f); });
+  return format == ColorFormat::gamma22 ? gamma : srgb;
 }
 }  // namespace detail
 
@@ -85,7 +90,8 @@ public:
     tile_error_.assign(tiles, std::numeric_limits<float>::infinity());
     if (channels_ & channel_accum) accum_.assign(4 * n, 0.f);
     if (channels_ & channel_variance) odd_luminance_.assign(n, 0.f);
-    if (format == ColorFormat::rgba8 || format == ColorFormat::srgba) color8_.assign(4 * n, 0);
+    if (format == ColorFormat::rgba8 || format == ColorFormat::srgba || format == ColorFormat::gamma22)
+      color8_.assign(4 * n, 0);
     if (format == ColorFormat::rgba32f) color32_.assign(4 * n, 0.f);
     if (channels_ & channel_depth) {
       depth_.assign(n, std::numeric_limits<float>::infinity());
@@ -96,7 +102,7 @@ public:
     if (channels_ & channel_id_primitive) primitive_id_.assign(n, no_id);
     if (channels_ & channel_id_object) object_id_.assign(n, no_id);
     if (channels_ & channel_id_instance) instance_id_.assign(n, no_id);
-    if (format == ColorFormat::srgba) detail::srgb_table();
+    if (format == ColorFormat::srgba || format == ColorFormat::gamma22) detail::encoding_table(format);
   }
 
   int width() const { return width_; }
@@ -191,9 +197,14 @@ public:
 
   /// An estimate of the error left in the accumulated colour: the mean over pixels of
   /// the expected absolute luminance error of their average (tiles weighted by their
-  /// pixels). Per pixel it compares the means of the even and the odd frames, which for
-  /// independent frames differ by sqrt(frames^2 / (even * odd)) times the error of the
-  /// whole average: the estimate is unbiased for all frame counts. Infinite while any
+  /// pixels). Per pixel it compares the means of two halves of the frames, which for
+  /// independent frames differ by sqrt(frames^2 / (half0 * half1)) times the error of the
+  /// whole average: the estimate is unbiased for all frame counts. The halves are split
+  /// by the parity of the number of ones in the frame's index (Thue-Morse), not as even
+  /// and odd frames: the pixel sample points are OSPRay's Halton points, the same in
+  /// every pixel, and every other one lies in the same half of the pixel, so even and
+  /// odd frames differ at every edge however many there are; each Thue-Morse half is
+  /// stratified on its own (their difference falls as 1/frames, as the error does). Infinite while any
   /// tile has fewer than two frames, or without a variance channel (as OSPRay reports).
   float variance() const {
     if (odd_luminance_.empty() || frames_ < 2) return std::numeric_limits<float>::infinity();
@@ -265,7 +276,7 @@ private:
         if (!odd_luminance_.empty()) {
           float& odd = odd_luminance_[p];
           if (before[i] == 0) odd = 0.f;
-          if (before[i] % 2 == 1) odd += luminance(rgba[0][i], rgba[1][i], rgba[2][i]);
+          if (in_second_half(before[i])) odd += luminance(rgba[0][i], rgba[1][i], rgba[2][i]);
         }
         float* acc = &accum_[4 * p];
         const float inv = 1.f / static_cast<float>(before[i] + 1);
@@ -286,9 +297,18 @@ private:
            static_cast<std::size_t>(std::min(tile_size, height_ - y0));
   }
 
-  /// Mean over the tile's pixels of |even mean - odd mean| * sqrt(even * odd) / frames.
+  /// Whether frame `frame` (0 for the first) counts in the second half of the estimate.
+  static bool in_second_half(std::uint32_t frame) { return std::popcount(frame) % 2 == 1; }
+  /// How many of the first `frames` frames are in the second half: of 0..frames-1, those
+  /// with an odd number of ones (each pair 2k, 2k + 1 holds one).
+  static std::uint32_t second_half_frames(std::uint32_t frames) {
+    return frames / 2 + (frames % 2 == 1 ? static_cast<std::uint32_t>(std::popcount(frames - 1) % 2) : 0u);
+  }
+
+  /// Mean over the tile's pixels of |first-half mean - second-half mean| * sqrt(first *
+  /// second) / frames.
   float estimate_tile_error(int tile, std::uint32_t frames) const {
-    const double odd_frames = frames / 2, even_frames = frames - odd_frames;
+    const double odd_frames = second_half_frames(frames), even_frames = frames - odd_frames;
     const double scale = std::sqrt(even_frames * odd_frames) / frames;
     const int x0 = (tile % tiles_x_) * tile_size, y0 = (tile / tiles_x_) * tile_size;
     double sum = 0.0;
@@ -352,8 +372,8 @@ private:
       return;
     }
     // 8-bit formats: quantize all lanes at once, then look up / store per pixel. Alpha
-    // stays linear; colour is sRGB-encoded through a table for SRGBA.
-    const bool srgb = format_ == ColorFormat::srgba;
+    // stays linear; colour is encoded through a table for SRGBA and gamma 2.2.
+    const bool srgb = format_ == ColorFormat::srgba || format_ == ColorFormat::gamma22;
     const F scale(srgb ? 65535.f : 255.f);
     alignas(64) std::int32_t q[4][W];
     for (int c = 0; c < 4; ++c) {
@@ -368,7 +388,7 @@ private:
       std::memcpy(&color8_[4 * static_cast<std::size_t>(pixel[i])], bytes, 4);
     };
     if (srgb) {
-      const auto& table = detail::srgb_table();
+      const auto& table = detail::encoding_table(format_);
       for (int i = 0; i < W; ++i)
         if (pixel[i] >= 0)
           store(i, table[static_cast<std::size_t>(q[0][i])], table[static_cast<std::size_t>(q[1][i])],
@@ -393,7 +413,7 @@ private:
   std::vector<Tonemapper> image_operations_;
 
   std::vector<float> accum_;
-  std::vector<float> odd_luminance_;  // sum over odd frames, for the variance estimate
+  std::vector<float> odd_luminance_;  // sum over the second half's frames (in_second_half), for the estimate
   std::vector<std::uint8_t> color8_;
   std::vector<float> color32_;
   std::vector<float> depth_;

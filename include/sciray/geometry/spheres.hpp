@@ -174,12 +174,20 @@ public:
                    I(static_cast<std::int32_t>(arrays_.texcoords.byte_stride / sizeof(float)));
       s.uv = {simd::gather<Arch>(arrays_.texcoords.data(), at), simd::gather<Arch>(arrays_.texcoords.data(), at + I(1))};
     }
+    // A big sphere's hit is as precise as its radius allows, not its position: about 8
+    // ulps of the radius (OSPRay's sphere epsilon), which also keeps the ground-sized
+    // sphere under a small scene free of self-shadowing.
+    const I prim = simd::select(lanes, hit.prim_id, I(0));
+    const simd::Float<Arch> radius =
+        arrays_.radii.empty()
+            ? simd::Float<Arch>(arrays_.radius)
+            : simd::gather<Arch>(arrays_.radii.data(), prim * I(static_cast<std::int32_t>(arrays_.radii.byte_stride / sizeof(float))));
+    s.epsilon = radius * simd::Float<Arch>(0x1.fp-21f);
     if (arrays_.colors.empty()) {
       s.has_color = simd::Mask<Arch>(false);
       return s;
     }
-    const I at = simd::select(lanes, hit.prim_id, I(0)) *
-                 I(static_cast<std::int32_t>(arrays_.colors.byte_stride / sizeof(float)));
+    const I at = prim * I(static_cast<std::int32_t>(arrays_.colors.byte_stride / sizeof(float)));
     const float* colors = arrays_.colors.data();
     s.color = {simd::gather<Arch>(colors, at), simd::gather<Arch>(colors, at + I(1)),
                simd::gather<Arch>(colors, at + I(2))};

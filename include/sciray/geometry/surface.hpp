@@ -22,6 +22,10 @@ struct SurfaceSample {
   simd::Mask<Arch> has_color;  ///< whether the geometry supplied the colour
   /// The colour's alpha, which OSPRay's renderers take as opacity (times the material's).
   F alpha = F(1.f);
+  /// The least distance secondary rays start off this surface at, where the geometry
+  /// knows its own precision (OSPRay's per-geometry epsilon: spheres scale it by their
+  /// radius); 0 where the hit position's magnitude decides alone.
+  F epsilon = F(0.f);
   /// Interpolated texture coordinates; (0, 0) on geometry without them, as in OSPRay.
   TexCoord<F> uv{F(0.f), F(0.f)};
 };

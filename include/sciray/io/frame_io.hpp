@@ -27,7 +27,7 @@ inline Image color_image(const FrameBuffer& fb) {
 inline void write_color(const FrameBuffer& fb, const std::filesystem::path& path) {
   const std::string ext = path.extension().string();
   if (ext == ".png") {
-    if (fb.format() != ColorFormat::rgba8 && fb.format() != ColorFormat::srgba)
+    if (fb.format() != ColorFormat::rgba8 && fb.format() != ColorFormat::srgba && fb.format() != ColorFormat::gamma22)
       throw Error("write_color: " + path.string() + ": PNG needs an RGBA8 or SRGBA frame buffer");
     std::vector<std::uint8_t> rows(fb.color8().size());
     const std::size_t row_bytes = 4 * static_cast<std::size_t>(fb.width());

@@ -32,6 +32,9 @@ namespace sciray {
 
 struct SciVisParams : RendererParams {
   bool shadows = false;
+  /// visibleLights: camera rays (and rays through transparent surfaces) see the lights
+  /// with size and `visible` set, as OSPRay's scivis; the hdri light is the background.
+  bool visible_lights = false;
   int ao_samples = 0;                   ///< aoSamples
   float ao_distance = 1e20f;            ///< aoDistance
 };
@@ -136,6 +139,8 @@ public:
       const auto hit = accel::intersect<Arch>(world_->scene(), ray, live, depth == 0, world_->hit_filter());
       composite_volumes<Arch>(*world_, params_, to_light_, ray, live, simd::select(hit.hit, hit.t, inf), color,
                               transmittance);
+      if constexpr (!is_ao)
+        if (params_.visible_lights) add_visible_lights(ray, live, simd::select(hit.hit, hit.t, inf), transmittance, color);
       const M surfaces = live & hit.hit;
       if (depth == 0) record_first_hit(hit, out);
       Vec3<F> pass(splat(0.f));
@@ -161,6 +166,29 @@ public:
   }
 
 private:
+  /// The radiance of the visible lights with size that `ray` meets before `t_end`, added
+  /// to `color` under `transmittance`.
+  void add_visible_lights(const Ray<F>& ray, const M& lanes, const F& t_end, const Vec3<F>& transmittance,
+                          Vec3<F>& color) const {
+    alignas(64) float rgb[3][W];
+    bool any = false;
+    for (int i = 0; i < W; ++i) {
+      Vec3f sum{0.f, 0.f, 0.f};
+      if (simd::lane(lanes, i)) {
+        const Vec3f org{simd::lane(ray.org.x, i), simd::lane(ray.org.y, i), simd::lane(ray.org.z, i)};
+        const Vec3f dir = normalize(Vec3f{simd::lane(ray.dir.x, i), simd::lane(ray.dir.y, i), simd::lane(ray.dir.z, i)});
+        for (const Light* light : direct_lights_) {
+          if (is_delta(*light) || std::holds_alternative<HdriLight>(*light)) continue;
+          if (!std::visit([](const auto& l) { return l.visible; }, *light)) continue;
+          sum = sum + eval(*light, org, Vec3f{0.f, 0.f, 0.f}, dir, simd::lane(t_end, i)).radiance;
+        }
+      }
+      any = any || sum.x > 0.f || sum.y > 0.f || sum.z > 0.f;
+      rgb[0][i] = sum.x, rgb[1][i] = sum.y, rgb[2][i] = sum.z;
+    }
+    if (any) color = color + transmittance * Vec3<F>{simd::load<Arch>(rgb[0]), simd::load<Arch>(rgb[1]), simd::load<Arch>(rgb[2])};
+  }
+
   /// The background: `map_backplate` at the sample's screen position, else a visible
   /// `hdri` light's map in the ray's direction, else the background colour.
   Vec3<F> background(const Ray<F>& ray, const M& lanes, const SampleIndex<Arch>& index) const {
@@ -276,7 +304,7 @@ private:
       return out;
     }
     const Vec3<F> p = ray.org + ray.dir * t;
-    const F offset = offset_of(p, t, ray.dir);
+    const F offset = simd::max(offset_of(p, t, ray.dir), s.epsilon);
     const Vec3<F> org = p + ng * offset;
 
     Vec3<F> lit = Vec3<F>(ambient_) * ambient_visibility(org, n, lanes, rng);
