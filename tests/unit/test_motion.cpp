@@ -92,11 +92,6 @@ TEST_CASE("motion transforms interpolate their keys exactly as Embree places ins
   CHECK(half.vx.x == Approx(std::sqrt(0.5f)));
   CHECK(half.vx.y == Approx(std::sqrt(0.5f)));
   CHECK(length(half.vy) == Approx(1.f));
-  // Moving objects exist only within their keys' time range.
-  const MotionTransform early({Affine3f{}, shear}, 0.f, 0.5f);
-  CHECK(early.present(0.5f));
-  CHECK_FALSE(early.present(0.6f));
-  CHECK(MotionTransform(shear).present(7.f));
 }
 
 TEST_CASE("an instance moving across the shutter blurs into a streak covering each pixel for its share of the shutter",

@@ -71,9 +71,9 @@ inline QuaternionDecomposition lerp(const QuaternionDecomposition& a, const Quat
 }
 
 /// A placement over time: one transform (static), or keys as matrices or as quaternion
-/// decompositions spaced evenly over [start, end]. An object placed by a moving
-/// transform exists only within that range (as Embree shows it); a camera holds its
-/// first or last key outside it.
+/// decompositions spaced evenly over [start, end]. Embree shows an object placed by a
+/// moving transform only from start until (not at) end; a camera holds its first or last
+/// key outside the range.
 class MotionTransform {
 public:
   MotionTransform() = default;
@@ -98,9 +98,6 @@ public:
 
   /// Key `i` as a matrix.
   Affine3f key(std::size_t i) const { return quaternion() ? decompositions_.at(i).matrix() : matrices_.at(i); }
-
-  /// Whether an object placed by this transform exists at `time`.
-  bool present(float time) const { return !moving() || (time >= start_ && time <= end_); }
 
   /// The transform at `time` (clamped to the key range).
   Affine3f at(float time) const {
