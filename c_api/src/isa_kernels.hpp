@@ -45,17 +45,18 @@ void trace(const EngineWorld& world, std::span<const Ray<float>> rays, std::span
   const float inf = std::numeric_limits<float>::infinity();
   for (std::size_t first = 0; first < rays.size(); first += W) {
     const int count = static_cast<int>(std::min<std::size_t>(W, rays.size() - first));
-    alignas(64) float lanes[8][W];
+    alignas(64) float lanes[9][W];
     for (int i = 0; i < W; ++i) {
       const Ray<float>& r = rays[first + std::min(i, count - 1)];
-      const float values[8] = {r.org.x, r.org.y, r.org.z, r.dir.x, r.dir.y, r.dir.z, r.tnear, r.tfar};
-      for (int k = 0; k < 8; ++k) lanes[k][i] = values[k];
+      const float values[9] = {r.org.x, r.org.y, r.org.z, r.dir.x, r.dir.y, r.dir.z, r.tnear, r.tfar, r.time};
+      for (int k = 0; k < 9; ++k) lanes[k][i] = values[k];
     }
     Ray<F> ray;
     ray.org = {simd::load<Arch>(lanes[0]), simd::load<Arch>(lanes[1]), simd::load<Arch>(lanes[2])};
     ray.dir = {simd::load<Arch>(lanes[3]), simd::load<Arch>(lanes[4]), simd::load<Arch>(lanes[5])};
     ray.tnear = simd::load<Arch>(lanes[6]);
     ray.tfar = simd::load<Arch>(lanes[7]);
+    ray.time = simd::load<Arch>(lanes[8]);
     const F active_lanes = simd::lane_index<Arch>();
     const auto hit = accel::intersect<Arch>(world.scene(), ray, active_lanes < F(static_cast<float>(count)), false,
                                            world.hit_filter());

@@ -310,7 +310,11 @@ int render(const RenderOptions& opt) {
     view.aperture_radius = opt.aperture;
     view.focus_distance = opt.focus;
     sciray::Camera camera = view;
-    if (opt.panoramic) camera = sciray::PanoramicCamera{view.position, view.direction, view.up};
+    if (opt.panoramic) {
+      sciray::PanoramicCamera panoramic;
+      static_cast<sciray::CameraCommon&>(panoramic) = view;  // the same placement
+      camera = panoramic;
+    }
     // Without lights of its own, a scene gets a light from the upper left behind the
     // viewer, as a desk lamp would be, and some ambient light.
     if (scene.lights.empty()) {

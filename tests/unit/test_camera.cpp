@@ -3,8 +3,10 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <memory>
 #include <numbers>
 #include <utility>
+#include <vector>
 
 #include "sciray/math/sequence.hpp"
 #include "sciray/render/camera.hpp"
@@ -165,7 +167,7 @@ TEST_CASE("depth of field: every lens point of a screen point meets one focal-pl
   CHECK(length(near_a - near_b) > 0.1f);
 }
 
-TEST_CASE("stereo: eyes IPD/2 to either side along the right axis converge at focusDistance", "[camera][stereo]") {
+TEST_CASE("stereo: eyes IPD/2 to either side along the right axis, looking parallel (as OSPRay)", "[camera][stereo]") {
   PerspectiveCamera c;
   c.position = {0.f, 1.f, 5.f};
   c.direction = {0.f, 0.f, -1.f};
@@ -173,8 +175,8 @@ TEST_CASE("stereo: eyes IPD/2 to either side along the right axis converge at fo
   c.aspect = 2.f;
   c.focus_distance = 4.f;
   c.interpupillary_distance = 0.07f;
-  const Vec3f right{1.f, 0.f, 0.f}, forward{0.f, 0.f, -1.f};
-  const Vec3f convergence = c.position + forward * c.focus_distance;
+  const Vec3f right{1.f, 0.f, 0.f};
+  PerspectiveCamera mono = c;
 
   c.stereo_mode = StereoMode::left;
   const Ray<float> left = prepare(c).generate(0.5f, 0.5f);
@@ -182,15 +184,15 @@ TEST_CASE("stereo: eyes IPD/2 to either side along the right axis converge at fo
   const Ray<float> right_eye = prepare(c).generate(0.5f, 0.5f);
   check_near(left.org, c.position - right * 0.035f, 1e-6f);
   check_near(right_eye.org, c.position + right * 0.035f, 1e-6f);
-  check_near(on_plane(left, c.position, forward, c.focus_distance), convergence, 1e-5f);
-  check_near(on_plane(right_eye, c.position, forward, c.focus_distance), convergence, 1e-5f);
-  // Any screen point of one eye meets the other eye's ray of that point on the focal plane.
-  c.stereo_mode = StereoMode::left;
-  const Ray<float> left_corner = prepare(c).generate(0.1f, 0.8f);
-  c.stereo_mode = StereoMode::right;
-  const Ray<float> right_corner = prepare(c).generate(0.1f, 0.8f);
-  check_near(on_plane(left_corner, c.position, forward, c.focus_distance),
-             on_plane(right_corner, c.position, forward, c.focus_distance), 1e-5f);
+  // Every screen point's ray of either eye is the mono camera's, moved sideways: points
+  // far away land on the same pixel for both eyes, near ones shift (parallax).
+  for (const auto& [sx, sy] : {std::pair{0.5f, 0.5f}, {0.1f, 0.8f}, {0.9f, 0.05f}}) {
+    const Ray<float> m = prepare(mono).generate(sx, sy);
+    c.stereo_mode = StereoMode::left;
+    check_near(prepare(c).generate(sx, sy).dir, m.dir, 1e-6f);
+    c.stereo_mode = StereoMode::right;
+    check_near(prepare(c).generate(sx, sy).dir, m.dir, 1e-6f);
+  }
 
   // Side by side: the left half is the left eye, each half a whole view of half the
   // aspect; top/bottom: the top half is the left eye.
@@ -333,4 +335,187 @@ TEST_CASE("camera samples: the centre first, then film and lens positions strati
   for (int d = 0; d < 4; ++d)
     for (int q = 0; q < 4; ++q) CHECK(std::abs(quarters[d][q] - 256) <= 6);
   CHECK(std::abs(film_lens / 1024) < 0.05);
+}
+
+namespace {
+void check_rays_equal(const Ray<float>& a, const Ray<float>& b, float margin) {
+  check_near(a.org, b.org, margin);
+  check_near(a.dir, b.dir, margin);
+  CHECK(a.tnear == Approx(b.tnear).margin(margin));
+  CHECK(a.time == Approx(b.time).margin(margin));
+}
+/// A rotation by `degrees` about +y, then `translation`.
+Affine3f turn_y(float degrees, Vec3f translation = {}) {
+  const float a = degrees * std::numbers::pi_v<float> / 180.f;
+  return {{std::cos(a), 0.f, -std::sin(a)}, {0.f, 1.f, 0.f}, {std::sin(a), 0.f, std::cos(a)}, translation};
+}
+}  // namespace
+
+TEST_CASE("camera 'transform' places position, direction and up: the rays of the transformed camera",
+          "[camera][transform]") {
+  const Affine3f m = turn_y(30.f, {1.f, -2.f, 0.5f}) * Affine3f::scale(2.f);  // sizes stay: only vectors move
+  const auto check_type = [&](auto camera) {
+    camera.position = {0.3f, 0.1f, 2.f};
+    camera.direction = {0.1f, -0.2f, -1.f};
+    camera.up = {0.f, 1.f, 0.2f};
+    auto moved = camera;
+    moved.position = m.point(camera.position), moved.direction = m.vector(camera.direction);
+    moved.up = m.vector(camera.up);
+    camera.motion = std::make_shared<const MotionTransform>(m);
+    const auto a = prepare(camera), b = prepare(moved);
+    for (const auto& [sx, sy] : {std::pair{0.5f, 0.5f}, {0.f, 1.f}, {0.83f, 0.27f}})
+      check_rays_equal(a.generate(sx, sy, 0.3f, 0.7f), b.generate(sx, sy, 0.3f, 0.7f), 0.f);
+  };
+  PerspectiveCamera p;
+  p.aperture_radius = 0.1f;
+  check_type(p);
+  check_type(OrthographicCamera{});
+  check_type(PanoramicCamera{});
+}
+
+TEST_CASE("moving camera: each ray is placed by the motion keys at its own time", "[camera][motion]") {
+  // Two keys 2 apart along x, and a quarter turn about y: each ray sees the camera where
+  // the linearly interpolated keys put it at the ray's time.
+  auto slide = std::make_shared<const MotionTransform>(
+      std::vector<Affine3f>{Affine3f{}, Affine3f::translate({2.f, 0.f, 0.f})}, 0.f, 1.f);
+  auto turn = std::make_shared<const MotionTransform>(std::vector<Affine3f>{turn_y(0.f), turn_y(90.f)}, 0.f, 1.f);
+  OrthographicCamera o;
+  o.motion = slide;
+  o.shutter_open = 0.f, o.shutter_close = 1.f;
+  const auto ortho = prepare(o);
+  CHECK(ortho.uses_time_sample());
+  for (float u : {0.f, 0.25f, 0.9f}) {
+    const Ray<float> ray = ortho.generate(0.5f, 0.5f, 0.5f, 0.5f, u);
+    CHECK(ray.time == Approx(u));
+    check_near(ray.org, {2.f * u, 0.f, 0.f}, 1e-6f);
+  }
+  PanoramicCamera p;
+  p.motion = turn;
+  p.shutter_open = 0.f, p.shutter_close = 1.f;
+  // Halfway the matrices average to a scaled 45-degree turn; the camera is rebuilt from
+  // the normalized direction, so the view turns 45 degrees.
+  const float h = std::sqrt(0.5f);
+  check_near(prepare(p).generate(0.5f, 0.5f, 0.5f, 0.5f, 0.5f).dir, {-h, 0.f, -h}, 1e-6f);
+  check_near(prepare(p).generate(0.5f, 0.5f, 0.5f, 0.5f, 1.f).dir, {-1.f, 0.f, 0.f}, 1e-6f);
+  // Packets place every lane at its own time.
+  using A = xsimd::sse2;
+  using F = simd::Float<A>;
+  PerspectiveCamera c;
+  c.motion = turn;
+  c.shutter_open = 0.2f, c.shutter_close = 0.8f;
+  c.stereo_mode = StereoMode::side_by_side;
+  c.aperture_radius = 0.05f;
+  const auto cam = prepare(c);
+  const F sx{0.1f, 0.4f, 0.6f, 0.9f}, sy{0.9f, 0.2f, 0.5f, 0.3f}, u{0.f, 0.3f, 0.6f, 0.99f};
+  const Ray<F> packet = cam.generate(sx, sy, u, u, u);
+  for (int i = 0; i < 4; ++i) {
+    const Ray<float> single = cam.generate(simd::lane(sx, i), simd::lane(sy, i), simd::lane(u, i), simd::lane(u, i),
+                                           simd::lane(u, i));
+    CHECK(simd::lane(packet.time, i) == Approx(0.2f + 0.6f * simd::lane(u, i)));
+    check_near({simd::lane(packet.dir.x, i), simd::lane(packet.dir.y, i), simd::lane(packet.dir.z, i)}, single.dir,
+               1e-5f);
+    check_near({simd::lane(packet.org.x, i), simd::lane(packet.org.y, i), simd::lane(packet.org.z, i)}, single.org,
+               1e-6f);
+    CHECK(simd::lane(cam.projected_depth(packet, F(2.f)), i) == Approx(cam.projected_depth(single, 2.f)));
+  }
+  // Depth is measured along the view axis at the ray's own time: straight ahead it is
+  // the distance, whenever the ray looks.
+  c.stereo_mode = StereoMode::none;
+  c.aperture_radius = 0.f;
+  const auto pinhole = prepare(c);
+  for (float time_u : {0.f, 0.5f, 1.f}) {
+    const Ray<float> ahead = pinhole.generate(0.5f, 0.5f, 0.5f, 0.5f, time_u);
+    CHECK(pinhole.projected_depth(ahead, 2.f) == Approx(2.f));
+  }
+}
+
+TEST_CASE("shutter: a global one spans its interval; rolling ones sweep columns or rows", "[camera][shutter]") {
+  OrthographicCamera c;
+  c.shutter_open = 0.2f, c.shutter_close = 0.6f;
+  const auto time = [&](float sx, float sy, float u) { return prepare(c).generate(sx, sy, 0.5f, 0.5f, u).time; };
+  CHECK(time(0.f, 0.f, 0.f) == Approx(0.2f));
+  CHECK(time(1.f, 0.3f, 0.5f) == Approx(0.4f));
+  CHECK(prepare(c).uses_time_sample());
+  c.shutter_open = c.shutter_close = 0.7f;  // one instant: the time sample is not needed
+  CHECK(time(0.3f, 0.3f, 0.9f) == Approx(0.7f));
+  CHECK_FALSE(prepare(c).uses_time_sample());
+
+  // Each row or column opens in turn, for rollingShutterDuration: the last one opens
+  // that long before the shutter closes.
+  c.shutter_open = 0.f, c.shutter_close = 1.f;
+  c.rolling_shutter_duration = 0.2f;
+  c.shutter_type = ShutterType::rolling_right;  // left column first
+  CHECK(time(0.f, 0.5f, 0.f) == Approx(0.f));
+  CHECK(time(0.5f, 0.9f, 0.5f) == Approx(0.5f));
+  CHECK(time(1.f, 0.1f, 1.f) == Approx(1.f));
+  c.shutter_type = ShutterType::rolling_left;  // right column first
+  CHECK(time(1.f, 0.5f, 0.f) == Approx(0.f));
+  CHECK(time(0.f, 0.5f, 0.f) == Approx(0.8f));
+  c.shutter_type = ShutterType::rolling_down;  // top row first
+  CHECK(time(0.3f, 1.f, 0.f) == Approx(0.f));
+  CHECK(time(0.3f, 0.f, 0.5f) == Approx(0.9f));
+  c.shutter_type = ShutterType::rolling_up;  // bottom row first
+  CHECK(time(0.3f, 0.f, 0.f) == Approx(0.f));
+  CHECK(time(0.3f, 0.25f, 1.f) == Approx(0.4f));
+  CHECK(prepare(c).uses_time_sample());
+  c.rolling_shutter_duration = 0.f;  // each row is one instant
+  CHECK_FALSE(prepare(c).uses_time_sample());
+  CHECK(time(0.3f, 0.25f, 0.9f) == Approx(0.25f));
+
+  // With stereo, each eye's view rolls on its own.
+  PerspectiveCamera s;
+  s.stereo_mode = StereoMode::top_bottom;
+  s.shutter_open = 0.f, s.shutter_close = 1.f;
+  s.shutter_type = ShutterType::rolling_down;
+  CHECK(prepare(s).generate(0.5f, 1.f).time == Approx(0.f));    // top of the left eye
+  CHECK(prepare(s).generate(0.5f, 0.4999f).time == Approx(0.f).margin(1e-3));  // top of the right eye
+  CHECK(prepare(s).generate(0.5f, 0.25f).time == Approx(0.5f));
+}
+
+TEST_CASE("imageStart and imageEnd show a region of the image plane; nearClip starts the rays", "[camera][region]") {
+  PerspectiveCamera c;
+  c.position = {0.f, 1.f, 3.f};
+  c.fovy = 50.f;
+  c.aspect = 1.5f;
+  c.near_clip = 0.25f;
+  PerspectiveCamera region = c;
+  region.image_region = {0.25f, 0.5f, 0.75f, 1.f};
+  for (const auto& [sx, sy] : {std::pair{0.f, 0.f}, {0.5f, 0.5f}, {1.f, 0.2f}}) {
+    const Ray<float> ray = prepare(region).generate(sx, sy);
+    check_rays_equal(ray, prepare(c).generate(0.25f + 0.5f * sx, 0.5f + 0.5f * sy), 1e-6f);
+    CHECK(ray.tnear == 0.25f);
+  }
+  // A start beyond the end mirrors that axis.
+  region.image_region = {1.f, 0.f, 0.f, 1.f};
+  check_rays_equal(prepare(region).generate(0.1f, 0.3f), prepare(c).generate(0.9f, 0.3f), 1e-6f);
+  PanoramicCamera p;
+  p.image_region = {0.5f, 0.f, 1.f, 1.f};  // the right half of the panorama
+  check_near(prepare(p).generate(0.5f, 0.5f).dir, {1.f, 0.f, 0.f}, 1e-6f);
+}
+
+TEST_CASE("shutter, region, clipping and motion parameters that cannot work are named", "[camera][errors]") {
+  OrthographicCamera c;
+  c.near_clip = -1.f;
+  CHECK_THROWS_WITH(prepare(c), Catch::Contains("orthographic camera: 'nearClip'"));
+  c.near_clip = 0.f;
+  c.image_region = {0.5f, 0.f, 0.5f, 1.f};
+  CHECK_THROWS_WITH(prepare(c), Catch::Contains("'imageStart' and 'imageEnd' must differ"));
+  c.image_region = {0.f, std::nanf(""), 1.f, 1.f};
+  CHECK_THROWS_WITH(prepare(c), Catch::Contains("finite"));
+  c.image_region = {};
+  c.shutter_open = 0.6f, c.shutter_close = 0.4f;
+  CHECK_THROWS_WITH(prepare(c), Catch::Contains("'shutter' must satisfy 0 <= lower <= upper <= 1"));
+  c.shutter_open = 0.f, c.shutter_close = 1.5f;
+  CHECK_THROWS_WITH(prepare(c), Catch::Contains("'shutter'"));
+  c.shutter_close = 0.5f;
+  c.shutter_type = static_cast<ShutterType>(9);
+  CHECK_THROWS_WITH(prepare(c), Catch::Contains("'shutterType'") && Catch::Contains("got 9"));
+  c.shutter_type = ShutterType::rolling_up;
+  c.rolling_shutter_duration = 0.6f;
+  CHECK_THROWS_WITH(prepare(c), Catch::Contains("'rollingShutterDuration' must be in [0, shutter upper - lower]"));
+  c.rolling_shutter_duration = 0.f;
+  // A key that folds the view onto `up` leaves no image plane.
+  c.motion = std::make_shared<const MotionTransform>(
+      std::vector<Affine3f>{Affine3f{}, Affine3f{{1.f, 0.f, 0.f}, {0.f, 1.f, 0.f}, {0.f, 1.f, 0.f}, {}}}, 0.f, 1.f);
+  CHECK_THROWS_WITH(prepare(c), Catch::Contains("'motion.transform' key 1") && Catch::Contains("'up' is parallel"));
 }

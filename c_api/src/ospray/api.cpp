@@ -578,7 +578,7 @@ void ospPick(OSPPickResult* result, OSPFrameBuffer fb, OSPRenderer renderer, OSP
     // one the volume's value at the hit, in the group's space, is nearest.
     std::uint32_t prim = static_cast<uint32_t>(hit.prim_id);
     if (sciray::ospray::Geometry* g = origin.model->geometry(); g->isosurface_volume())
-      prim = g->isovalue_index(to_group_space(origin.instance->transform(), p));
+      prim = g->isovalue_index(to_group_space(origin.instance->placement().at(ray.time), p));
     result->hasHit = 1;
     result->worldPosition[0] = p.x, result->worldPosition[1] = p.y, result->worldPosition[2] = p.z;
     origin.instance->retain();

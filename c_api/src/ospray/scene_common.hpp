@@ -2,6 +2,7 @@
 // What the scene objects' sources share: reading parameters and array elements in
 // OSPRay's conventions, and the few engine helpers more than one object family uses.
 #include <cstring>
+#include <functional>
 #include <initializer_list>
 #include <sstream>
 #include <string>
@@ -61,6 +62,16 @@ inline std::string format_vec(const Vec3f& v) {
   out << "(" << v.x << ", " << v.y << ", " << v.z << ")";
   return out.str();
 }
+
+/// Where a camera or an instance is placed, from `owner`'s parameters as `find` returns
+/// them (marking them used): `motion.transform` (affine3f keys), else the quaternion
+/// decompositions of `motion.scale`, `motion.pivot`, `motion.rotation` and
+/// `motion.translation` (as many keys as the shortest array), else the one `transform`.
+/// Two or more keys span `time` (box1f, default [0, 1]); one key is a static transform.
+MotionTransform read_placement(const Object& owner, const std::function<const Param*(const std::string&)>& find);
+
+/// A box1f (or vec2f) parameter `p` named `id` as (lower, upper).
+std::pair<float, float> read_range(const Object& owner, const Param& p, const std::string& id);
 
 /// Why `material` cannot colour `geometry` yet ("" where it can): a volume texture
 /// colours planes only (slices). What a model's commit and every world build (the

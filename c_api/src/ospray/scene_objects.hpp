@@ -367,7 +367,9 @@ class Instance : public Object {
 public:
   Instance() : Object(OSP_INSTANCE, "") {}
   Group* group() const { return group_.get(); }
-  const Affine3f& transform() const { return transform_; }
+  /// `transform`, or the keys of `motion.*` over `time`.
+  const MotionTransform& placement() const { return placement_; }
+  /// Around the group wherever its placement puts it.
   Box3f bounds() const;
   std::uint64_t version() const override;
 
@@ -376,7 +378,7 @@ protected:
 
 private:
   Ref<Group> group_;
-  Affine3f transform_;
+  MotionTransform placement_;
 };
 
 

@@ -118,28 +118,18 @@ void Instance::on_commit() {
   // Read into locals: a commit that fails leaves the instance as it was.
   Ref<Group> group = get_object<Group>("group", OSP_GROUP, true);
   if (!group->committed()) throw Error(name() + ": its group has not been committed");
-  Affine3f transform;
-  if (const Param* p = find("transform")) {
-    if (p->type != OSP_AFFINE3F) throw Error(name() + ": parameter 'transform' must be an affine3f, got " + type_name(p->type));
-    float m[12];
-    std::memcpy(m, p->bytes.data(), sizeof m);
-    for (float v : m)
-      if (!std::isfinite(v)) throw Error(name() + ": parameter 'transform' is not finite");
-    transform = {{m[0], m[1], m[2]}, {m[3], m[4], m[5]}, {m[6], m[7], m[8]}, {m[9], m[10], m[11]}};
-    const float det = transform.determinant();
-    if (det == 0.f || !std::isfinite(det)) throw Error(name() + ": parameter 'transform' is singular");
-  }
-  if (!group->volumes().empty() && !transform.identity())
-    throw Error(name() + ": parameter 'transform': its group has volumes, and volumes in transformed instances are "
-                         "not supported yet (place the group with the identity transform and the volume with its "
-                         "'gridOrigin' and 'gridSpacing')");
+  MotionTransform placement = read_placement(*this, [this](const std::string& id) { return find(id); });
+  if (!group->volumes().empty() && !(placement.key_count() == 1 && placement.key(0).identity()))
+    throw Error(name() + ": parameter '" + (placement.moving() ? "motion.*" : "transform") +
+                "': its group has volumes, and volumes in transformed instances are not supported yet (place the "
+                "group with the identity transform and the volume with its 'gridOrigin' and 'gridSpacing')");
   group_ = std::move(group);
-  transform_ = transform;
+  placement_ = std::move(placement);
 }
 
 // The transformed box of the group's bounds: the engine's instance is the exact
 // transform of the group, so this encloses it under any (also non-uniform) transform.
-Box3f Instance::bounds() const { return transform_.transform(group_->bounds()); }
+Box3f Instance::bounds() const { return placement_.transform(group_->bounds()); }
 
 std::uint64_t Instance::version() const { return std::max(version_, group_ ? group_->version() : 0); }
 
@@ -491,7 +481,7 @@ std::shared_ptr<const BuiltWorld> World::built(const shim::IsaKernels& kernels, 
     Group* group = instance->group();
     // The engine places volumes directly in the world: only where the instance does not
     // move them. (The group may have gained volumes after the instance's commit.)
-    if (!group->volumes().empty() && !instance->transform().identity())
+    if (!group->volumes().empty() && !(instance->placement().key_count() == 1 && instance->placement().key(0).identity()))
       throw Error(name() + ": instance " + std::to_string(i) +
                   " places a group with volumes by a transform other than the identity: volumes in transformed "
                   "instances are not supported yet");
@@ -513,7 +503,7 @@ std::shared_ptr<const BuiltWorld> World::built(const shim::IsaKernels& kernels, 
     }
     const BuiltGroup& placed = *built->groups[at->second];
     if (!placed.group) continue;  // no geometry: nothing to place
-    built->world->add_instance(placed.group, instance->transform());
+    built->world->add_instance(placed.group, instance->placement());
     built->instances.push_back({instance, at->second});
   }
   // Every instance's clipping geometry, also of groups with nothing to render, clips the
@@ -526,9 +516,15 @@ std::shared_ptr<const BuiltWorld> World::built(const shim::IsaKernels& kernels, 
   for (const auto& light : lights_)
     for (const sciray::Light& l : light->lights()) built->lights.push_back(l);
   // Lights in groups are placed by every instance of their group.
-  for (const auto& instance : instances_)
-    for (const auto& light : instance->group()->lights())
-      for (const sciray::Light& l : light->lights()) built->lights.push_back(transformed(l, instance->transform()));
+  for (std::size_t i = 0; i < instances_.size(); ++i) {
+    const Instance& instance = *instances_[i];
+    if (instance.group()->lights().empty()) continue;
+    if (instance.placement().moving())
+      throw Error(name() + ": instance " + std::to_string(i) +
+                  " moves (motion.*) a group with lights: moving lights are not supported yet");
+    for (const auto& light : instance.group()->lights())
+      for (const sciray::Light& l : light->lights()) built->lights.push_back(transformed(l, instance.placement().key(0)));
+  }
   for (const MaterialEntry& entry : materials_) {
     if (entry.renderer_index) {  // filled in per frame, from the renderer's list
       built->renderer_materials.push_back({built->materials.size(), *entry.renderer_index, entry.tint});
@@ -568,9 +564,12 @@ std::shared_ptr<Clipping> World::build_clipping() const {
   for (std::size_t i = 0; i < instances_.size(); ++i) {
     const Instance& instance = *instances_[i];
     const auto& models = instance.group()->clipping_models();
+    if (!models.empty() && instance.placement().moving())
+      throw Error(name() + ": instance " + std::to_string(i) +
+                  " moves (motion.*) a group with clipping geometry: moving clipping geometry is not supported yet");
     for (std::size_t k = 0; k < models.size(); ++k) {
       try {
-        add_clipper(*clipping, *models[k], instance.transform());
+        add_clipper(*clipping, *models[k], instance.placement().key(0));
       } catch (const Error& e) {
         throw Error(name() + ": the group of instance " + std::to_string(i) + ", parameter 'clippingGeometry' " +
                     "element " + std::to_string(k) + " (" + models[k]->geometry()->name() + "): " + e.what());

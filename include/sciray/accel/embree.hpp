@@ -2,7 +2,9 @@
 // RAII over Embree's device and scene. Embree reports errors through a callback; the
 // device records the message and `check` turns it into a sciray::Error naming the
 // operation, so no Embree failure passes silently. A memory monitor counts the bytes
-// Embree holds (BVH and its own buffers) for the memory figures sciray reports.
+// Embree holds (BVH and its own buffers) for the memory figures sciray reports. Instances
+// get their (possibly moving) transforms from set_transform.
+#include <array>
 #include <atomic>
 #include <memory>
 #include <mutex>
@@ -16,6 +18,7 @@
 
 #include "sciray/error.hpp"
 #include "sciray/math/box.hpp"
+#include "sciray/math/motion.hpp"
 
 namespace sciray::accel {
 
@@ -141,5 +144,33 @@ public:
 private:
   RTCGeometry geometry_;
 };
+
+/// Sets an instance geometry's transform: one matrix, or the keys over their time range
+/// (Embree interpolates them itself, as MotionTransform::at does).
+inline void set_transform(RTCGeometry geometry, const MotionTransform& motion) {
+  const auto columns = [](const Affine3f& m) {
+    return std::array<float, 12>{m.vx.x, m.vx.y, m.vx.z, m.vy.x, m.vy.y, m.vy.z,
+                                 m.vz.x, m.vz.y, m.vz.z, m.p.x,  m.p.y,  m.p.z};
+  };
+  const auto keys = static_cast<unsigned>(motion.key_count());
+  rtcSetGeometryTimeStepCount(geometry, keys);
+  for (unsigned k = 0; k < keys; ++k) {
+    if (motion.quaternion()) {
+      const QuaternionDecomposition& d = motion.decompositions()[k];
+      RTCQuaternionDecomposition q;
+      rtcInitQuaternionDecomposition(&q);
+      rtcQuaternionDecompositionSetScale(&q, d.scale.x, d.scale.y, d.scale.z);
+      rtcQuaternionDecompositionSetSkew(&q, d.skew.x, d.skew.y, d.skew.z);
+      rtcQuaternionDecompositionSetShift(&q, d.shift.x, d.shift.y, d.shift.z);
+      rtcQuaternionDecompositionSetQuaternion(&q, d.rotation.r, d.rotation.i, d.rotation.j, d.rotation.k);
+      rtcQuaternionDecompositionSetTranslation(&q, d.translation.x, d.translation.y, d.translation.z);
+      rtcSetGeometryTransformQuaternion(geometry, k, &q);
+    } else {
+      const auto m = columns(motion.matrices()[k]);
+      rtcSetGeometryTransform(geometry, k, RTC_FORMAT_FLOAT3X4_COLUMN_MAJOR, m.data());
+    }
+  }
+  if (motion.moving()) rtcSetGeometryTimeRange(geometry, motion.start(), motion.end());
+}
 
 }  // namespace sciray::accel

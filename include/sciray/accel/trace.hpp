@@ -73,9 +73,9 @@ void store_ray(EmbreeRay& out, const Ray<simd::Float<Arch>>& ray) {
   ray.dir.z.store_aligned(out.dir_z);
   ray.tnear.store_aligned(out.tnear);
   ray.tfar.store_aligned(out.tfar);
+  ray.time.store_aligned(out.time);
   constexpr int W = simd::width<Arch>;
   for (int i = 0; i < W; ++i) {
-    out.time[i] = 0.f;
     out.mask[i] = ~0u;
     out.id[i] = static_cast<unsigned>(i);
     out.flags[i] = 0;
@@ -131,7 +131,7 @@ Hit<Arch> intersect(RTCScene scene, const Ray<simd::Float<Arch>>& ray, const sim
   Hit<Arch> hit;
   if constexpr (std::is_same_v<Arch, simd::scalar>) {
     RTCRayHit rh;
-    rh.ray = {ray.org.x, ray.org.y, ray.org.z, ray.tnear, ray.dir.x, ray.dir.y, ray.dir.z, 0.f, ray.tfar,
+    rh.ray = {ray.org.x, ray.org.y, ray.org.z, ray.tnear, ray.dir.x, ray.dir.y, ray.dir.z, ray.time, ray.tfar,
               ~0u, 0u, 0u};
     rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
     rh.hit.primID = 0;
@@ -176,7 +176,7 @@ simd::Mask<Arch> occluded(RTCScene scene, const Ray<simd::Float<Arch>>& ray, con
   detail::Context context_storage = detail::make_context(coherent, filter);
   RTCIntersectContext& context = context_storage.embree;
   if constexpr (std::is_same_v<Arch, simd::scalar>) {
-    RTCRay r{ray.org.x, ray.org.y, ray.org.z, ray.tnear, ray.dir.x, ray.dir.y, ray.dir.z, 0.f, ray.tfar,
+    RTCRay r{ray.org.x, ray.org.y, ray.org.z, ray.tnear, ray.dir.x, ray.dir.y, ray.dir.z, ray.time, ray.tfar,
              ~0u, 0u, 0u};
     if (!active) return false;
     rtcOccluded1(scene, &context, &r);

@@ -73,11 +73,11 @@ concept PacketRenderer = requires(const R& renderer, const Ray<simd::Float<Arch>
 };
 
 /// What render_frame needs of a camera: prepare()'s result, generating packets of rays
-/// from screen points and lens samples. (Camera descriptions go through the Camera
-/// overload, which prepares them.)
+/// from screen points, lens samples and shutter time samples. (Camera descriptions go
+/// through the Camera overload, which prepares them.)
 template <class C, class Arch>
 concept PreparedCamera = requires(const C& camera, const simd::Float<Arch>& s, const Ray<simd::Float<Arch>>& ray) {
-  { camera.generate(s, s, s, s) } -> std::same_as<Ray<simd::Float<Arch>>>;
+  { camera.generate(s, s, s, s, s) } -> std::same_as<Ray<simd::Float<Arch>>>;
   { camera.projected_depth(ray, s) } -> std::same_as<simd::Float<Arch>>;
 };
 
@@ -125,6 +125,8 @@ std::uint32_t render_frame(const Renderer& renderer, const CameraT& camera, Fram
   // (if the camera has one) needs the per-pixel sequence.
   bool uses_lens = true;
   if constexpr (requires { camera.uses_lens(); }) uses_lens = camera.uses_lens();
+  bool uses_time = false;
+  if constexpr (requires { camera.uses_time_sample(); }) uses_time = camera.uses_time_sample();
 
   tbb::parallel_for(tbb::blocked_range<int>(0, tile_count), [&](const tbb::blocked_range<int>& range) {
     alignas(64) std::int32_t pixel[W];
@@ -167,7 +169,8 @@ std::uint32_t render_frame(const Renderer& renderer, const CameraT& camera, Fram
               const FilterOffset offset = filter.sample(u, v);
               const F screen_x = (pixel_x + F(offset.x)) * F(inv_width);
               const F screen_y = (pixel_y + F(offset.y)) * F(inv_height);
-              const auto ray = camera.generate(screen_x, screen_y, cs.lens_u, cs.lens_v);
+              const F time_u = uses_time ? time_sample<Arch>(pixels, sample_index) : F(0.5f);
+              const auto ray = camera.generate(screen_x, screen_y, cs.lens_u, cs.lens_v, time_u);
               PixelSample<Arch> one =
                   renderer.render(ray, active, SampleIndex<Arch>{pixels, sample_index, screen_x, screen_y});
               projected = camera.projected_depth(ray, one.t);

@@ -13,6 +13,10 @@ struct Ray {
   Vec3<T> dir;
   T tnear = T(0.f);
   T tfar = T(std::numeric_limits<float>::infinity());
+  /// When within the frame's shutter the ray samples the scene, for what moves (Embree's
+  /// ray time, in the time units of OSPRay's `shutter`); secondary rays keep their camera
+  /// ray's time.
+  T time = T(0.f);
 };
 
 }  // namespace sciray

@@ -17,6 +17,7 @@ inline constexpr std::uint32_t r2_y = fixed_step(0.5698402909980532);    // 1 / 
 inline constexpr std::uint32_t r4_3 = fixed_step(0.6287067210378086);    // 1 / g^3, g the root of x^5 = x + 1
 inline constexpr std::uint32_t r4_4 = fixed_step(0.5385972572236101);    // 1 / g^4
 inline constexpr std::uint32_t half = 0x80000000u;
+inline constexpr std::uint32_t golden = fixed_step(0.6180339887498949);  // 1 / golden ratio
 
 /// Unsigned lanes: uint32 for the scalar path, a batch of them for packets.
 template <class Arch>
@@ -105,6 +106,20 @@ public:
 private:
   U shift_[4];
 };
+
+/// The shutter time sample in [0,1) of sample `sample` of each lane's pixel: the
+/// golden-ratio sequence (stratified over any run of samples), shifted by a hash of the
+/// pixel of its own, so that it is unrelated to the film and lens positions.
+template <class Arch>
+simd::Float<Arch> time_sample(const simd::Int<Arch>& pixel, std::uint32_t sample) {
+  using U = detail::UInt<Arch>;
+  U p;
+  if constexpr (std::is_same_v<Arch, simd::scalar>)
+    p = static_cast<std::uint32_t>(pixel);
+  else
+    p = xsimd::bitwise_cast<U>(pixel);
+  return detail::fixed_to_unit<Arch>(U(sample * detail::golden) + detail::mix32(p ^ U(0x2c1b3c6dU)));
+}
 
 /// Camera sample `sample` of pixel `pixel`.
 inline CameraSample camera_sample(std::uint32_t pixel, std::uint32_t sample) {

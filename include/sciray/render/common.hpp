@@ -143,10 +143,11 @@ void for_each_surface(const WorldT& world, const Ray<simd::Float<Arch>>& ray, co
     if constexpr (requires { world.primitive_materials_of(inst, geom); })
       per_primitive = world.primitive_materials_of(inst, geom);
     const std::uint32_t material = world.material_of(inst, geom);
-    world.visit_hit(inst, geom, [&](const auto& geometry, const Affine3f* transform) {
+    world.visit_hit(inst, geom, [&](const auto& geometry, const MotionTransform* placement) {
       auto surface = geometry.template surface<Arch>(hit, lanes);
       Vec3<Fl> ng = hit.ng;
-      if (transform) surface.normal = transform->normal(surface.normal), ng = transform->normal(ng);
+      if (placement)
+        surface.normal = placement->normal(surface.normal, ray.time), ng = placement->normal(ng, ray.time);
       for (int i = 0; i < simd::width<Arch>; ++i) {
         if (!simd::lane(lanes, i)) continue;
         const Vec3f dir{simd::lane(ray.dir.x, i), simd::lane(ray.dir.y, i), simd::lane(ray.dir.z, i)};

@@ -93,8 +93,9 @@ public:
       Ray<F> ray;
       ray.org = {simd::load<Arch>(lanes[0]), simd::load<Arch>(lanes[1]), simd::load<Arch>(lanes[2])};
       ray.dir = {simd::load<Arch>(lanes[3]), simd::load<Arch>(lanes[4]), simd::load<Arch>(lanes[5])};
-      ray.tnear = F(0.f);
+      ray.tnear = depth == 0 ? camera_ray.tnear : F(0.f);  // the camera's near clip
       ray.tfar = F(inf);
+      ray.time = camera_ray.time;
       const M live = simd::load<Arch>(lanes[6]) > F(0.f);
       const auto hit = accel::intersect<Arch>(world_->scene(), ray, live, depth == 0, world_->hit_filter());
       F t_event = simd::select(hit.hit, hit.t, F(inf));
@@ -156,7 +157,7 @@ public:
         }
       }
 
-      sample_lights(path, vertex);
+      sample_lights(path, vertex, camera_ray.time);
 
       // Continue each path by sampling its BSDF or phase function.
       for (int i = 0; i < W; ++i) {
@@ -343,8 +344,9 @@ private:
   }
 
   /// Next-event estimation: one sample of every light for every path at a vertex, the
-  /// shadow rays of one light traced as a packet and attenuated by the volumes they cross.
-  void sample_lights(Path* path, const Vertex* vertex) const {
+  /// shadow rays of one light traced as a packet (at the camera rays' `time`) and
+  /// attenuated by the volumes they cross.
+  void sample_lights(Path* path, const Vertex* vertex, const F& time) const {
     constexpr float inf = std::numeric_limits<float>::infinity();
     for (const Light& light : params_.lights) {
       // Without light sampling only BSDF-sampled rays find lights; delta lights then vanish.
@@ -393,6 +395,7 @@ private:
       shadow.dir = {simd::load<Arch>(ray_lanes[3]), simd::load<Arch>(ray_lanes[4]), simd::load<Arch>(ray_lanes[5])};
       shadow.tnear = F(0.f);
       shadow.tfar = simd::load<Arch>(ray_lanes[6]);
+      shadow.time = time;
       const M cast = simd::load<Arch>(wanted) > F(0.f);
       const M unblocked = cast & !accel::occluded<Arch>(world_->scene(), shadow, cast, false, world_->hit_filter());
       const F transmittance = volume_transmittance(path, shadow, unblocked);

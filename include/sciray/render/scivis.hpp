@@ -221,10 +221,11 @@ private:
                       Vec3<F>& color, const Vec3<F>& transmittance, Vec3<F>& pass, PixelSample<Arch>& out,
                       bool first) const {
     for_each_hit_group<Arch>(hit, surfaces, [&](const M& lanes, std::uint32_t inst, std::uint32_t geom) {
-      world_->visit_hit(inst, geom, [&](const auto& geometry, const Affine3f* transform) {
+      world_->visit_hit(inst, geom, [&](const auto& geometry, const MotionTransform* placement) {
         auto surface = geometry.template surface<Arch>(hit, lanes);
         Vec3<F> ng = hit.ng;
-        if (transform) surface.normal = normalize(transform->normal(surface.normal)), ng = transform->normal(ng);
+        if (placement)
+          surface.normal = normalize(placement->normal(surface.normal, ray.time)), ng = placement->normal(ng, ray.time);
         for_each_material<Arch>(*world_, inst, geom, hit, lanes, [&](const M& group, std::uint32_t material) {
           const Shaded shaded = shade(ray, hit.t, surface, normalize(ng), group, material, rng);
           color = color + select(group, transmittance * shaded.color, Vec3<F>(splat(0.f)));
@@ -307,7 +308,7 @@ private:
     const F offset = simd::max(offset_of(p, t, ray.dir), s.epsilon);
     const Vec3<F> org = p + ng * offset;
 
-    Vec3<F> lit = Vec3<F>(ambient_) * ambient_visibility(org, n, lanes, rng);
+    Vec3<F> lit = Vec3<F>(ambient_) * ambient_visibility(org, n, ray.time, lanes, rng);
     lit = lit * kd;
     if constexpr (!is_ao) {
       const bool specular = m.ks.x > 0.f || m.ks.y > 0.f || m.ks.z > 0.f;
@@ -333,7 +334,7 @@ private:
           response = response + glossy * pow<Arch>(simd::max(dot(n, h), F(0.f)), shininess);
         }
         Vec3<F> arriving = weight;
-        if (params_.shadows) arriving = arriving * shadow_transmittance(org, wi, dist, lit_lanes);
+        if (params_.shadows) arriving = arriving * shadow_transmittance(org, wi, dist, ray.time, lit_lanes);
         lit = lit + select(lit_lanes, response * arriving, Vec3<F>(splat(0.f)));
       }
     }
@@ -382,8 +383,8 @@ private:
   }
 
   /// The fraction of `aoSamples` cosine-weighted rays around n that nothing blocks within
-  /// aoDistance (1 without samples).
-  F ambient_visibility(const Vec3<F>& org, const Vec3<F>& n, const M& lanes, PixelRandom* rng) const {
+  /// aoDistance (1 without samples), at each lane's ray time.
+  F ambient_visibility(const Vec3<F>& org, const Vec3<F>& n, const F& time, const M& lanes, PixelRandom* rng) const {
     if (params_.ao_samples == 0) return F(1.f);
     F visible(0.f);
     alignas(64) float d[3][W];
@@ -394,20 +395,23 @@ private:
         d[0][i] = w.x, d[1][i] = w.y, d[2][i] = w.z;
       }
       const Vec3<F> dir{simd::load<Arch>(d[0]), simd::load<Arch>(d[1]), simd::load<Arch>(d[2])};
-      const Vec3<F> through = shadow_transmittance(org, dir, F(params_.ao_distance), lanes);
+      const Vec3<F> through = shadow_transmittance(org, dir, F(params_.ao_distance), time, lanes);
       visible = visible + (through.x + through.y + through.z) * F(1.f / 3.f);
     }
     return visible * F(1.f / static_cast<float>(params_.ao_samples));
   }
 
   /// What reaches `org` from `dist` away along `dir`: 0 where something opaque is in the
-  /// way, the product of the transparent surfaces' filters otherwise.
-  Vec3<F> shadow_transmittance(const Vec3<F>& org, const Vec3<F>& dir, const F& dist, const M& lanes) const {
+  /// way, the product of the transparent surfaces' filters otherwise. `time`: the camera
+  /// ray's, so that what moves casts its shadow where the camera saw it.
+  Vec3<F> shadow_transmittance(const Vec3<F>& org, const Vec3<F>& dir, const F& dist, const F& time,
+                               const M& lanes) const {
     Ray<F> ray;
     ray.org = org;
     ray.dir = dir;
     ray.tnear = F(0.f);
     ray.tfar = dist * F(1.f - 1e-5f);
+    ray.time = time;
     if (!any_transparent_) {
       const M blocked = accel::occluded<Arch>(world_->scene(), ray, lanes, false, world_->hit_filter());
       return select(blocked, Vec3<F>(splat(0.f)), Vec3<F>(splat(1.f)));
@@ -421,7 +425,7 @@ private:
         for_each_material<Arch>(*world_, inst, geom, hit, hits, [&](const M& group, std::uint32_t material) {
           static const ObjMaterial opaque_surface;
           const ObjMaterial& m = material == no_material ? opaque_surface : surfaces_[material];
-          world_->visit_hit(inst, geom, [&](const auto& geometry, const Affine3f*) {
+          world_->visit_hit(inst, geom, [&](const auto& geometry, const MotionTransform*) {
             bool translucent = false;
             if constexpr (requires { geometry.translucent_colors(); }) translucent = geometry.translucent_colors();
             if (!translucent && (material == no_material || !opacity_mapped_[material])) {

@@ -6,6 +6,8 @@
 // A world holds geometries placed directly, and instances: a shared Group (its own BVH,
 // built once) placed by an affine transform through Embree's instancing, so 10,000
 // instances of a 1M-triangle group cost one copy of the group plus a small top-level BVH.
+// An instance may move: its transform is then keyed over time (math/motion.hpp) and
+// Embree places it at each ray's time.
 //
 // Neither is templated on the SIMD architecture, because Embree's build is
 // ISA-independent; `commit<Arch>` only tells geometries with sciray's own intersectors
@@ -26,6 +28,7 @@
 #include "sciray/error.hpp"
 #include "sciray/math/affine.hpp"
 #include "sciray/math/box.hpp"
+#include "sciray/math/motion.hpp"
 #include "sciray/render/material.hpp"
 #include "sciray/scene/clipping.hpp"
 #include "sciray/simd/packet.hpp"
@@ -233,11 +236,21 @@ public:
   /// Places `group` (built at the world's commit if it is not yet) by `transform`;
   /// returns the instance's index. Takes effect at commit.
   std::uint32_t add_instance(std::shared_ptr<GroupType> group, const Affine3f& transform = {}) {
+    return add_instance(std::move(group), MotionTransform(transform));
+  }
+
+  /// Places `group` by a transform that may move over time: at each ray's time, and
+  /// nowhere at times outside a moving transform's range.
+  std::uint32_t add_instance(std::shared_ptr<GroupType> group, MotionTransform motion) {
     if (!group) throw Error("world: instance of a null group");
     if (&group->device() != this->device_) throw Error("world: an instance's group must use the world's device");
-    if (transform.determinant() == 0.f || !std::isfinite(transform.determinant()))
-      throw Error("world: instance " + std::to_string(instances_.size()) + " has a singular or non-finite transform");
-    instances_.push_back({std::move(group), transform});
+    for (std::size_t k = 0; k < motion.key_count(); ++k) {
+      const float det = motion.key(k).determinant();
+      if (det == 0.f || !std::isfinite(det))
+        throw Error("world: instance " + std::to_string(instances_.size()) + " has a singular or non-finite transform" +
+                    (motion.moving() ? " at key " + std::to_string(k) : std::string()));
+    }
+    instances_.push_back({std::move(group), std::move(motion)});
     this->committed_ = false;
     return static_cast<std::uint32_t>(instances_.size() - 1);
   }
@@ -259,7 +272,7 @@ public:
   }
 
   std::size_t instance_count() const { return instances_.size(); }
-  const Affine3f& instance_transform(std::uint32_t instance) const { return instances_.at(instance).transform; }
+  const MotionTransform& instance_motion(std::uint32_t instance) const { return instances_.at(instance).motion; }
 
   /// Builds the groups not yet built, then the top-level BVH over direct geometries and
   /// instances.
@@ -279,29 +292,27 @@ public:
       if (!instance.group->committed()) instance.group->template commit<Arch>();
       accel::GeometryHandle handle(*this->device_, RTC_GEOMETRY_TYPE_INSTANCE);
       rtcSetGeometryInstancedScene(handle.get(), instance.group->scene());
-      const Affine3f& m = instance.transform;
-      const float columns[12] = {m.vx.x, m.vx.y, m.vx.z, m.vy.x, m.vy.y, m.vy.z,
-                                 m.vz.x, m.vz.y, m.vz.z, m.p.x,  m.p.y,  m.p.z};
-      rtcSetGeometryTransform(handle.get(), 0, RTC_FORMAT_FLOAT3X4_COLUMN_MAJOR, columns);
+      accel::set_transform(handle.get(), instance.motion);
       RTCGeometry geometry = handle.commit(*this->device_, "world: instance");
       rtcAttachGeometryByID(scene.get(), geometry, first_instance + i);
       rtcReleaseGeometry(geometry);
       this->device_->check("world: instance");
-      this->bounds_.extend(m.transform(instance.group->bounds()));
+      this->bounds_.extend(instance.motion.transform(instance.group->bounds()));
     }
     scene.commit();
     this->scene_ = std::move(scene);
     this->committed_ = true;
   }
 
-  /// Calls f(geometry, transform) for the geometry a hit reports: `inst_id` as Embree
-  /// reports it (RTC_INVALID_GEOMETRY_ID for a direct geometry, whose transform is null).
+  /// Calls f(geometry, placement) for the geometry a hit reports: `inst_id` as Embree
+  /// reports it (RTC_INVALID_GEOMETRY_ID for a direct geometry, whose placement is null);
+  /// an instance's placement is its MotionTransform (normals at the hits' ray times).
   template <class F>
   decltype(auto) visit_hit(std::uint32_t inst_id, std::uint32_t geom_id, F&& f) const {
     if (inst_id == RTC_INVALID_GEOMETRY_ID)
-      return this->visit(geom_id, [&](const auto& g) { return f(g, static_cast<const Affine3f*>(nullptr)); });
+      return this->visit(geom_id, [&](const auto& g) { return f(g, static_cast<const MotionTransform*>(nullptr)); });
     const Instance& instance = instances_.at(inst_id - this->geometry_count());
-    return instance.group->visit(geom_id, [&](const auto& g) { return f(g, &instance.transform); });
+    return instance.group->visit(geom_id, [&](const auto& g) { return f(g, &instance.motion); });
   }
 
   /// The material index of the geometry a hit reports (inst_id as for visit_hit).
@@ -349,8 +360,9 @@ public:
 private:
   struct Instance {
     std::shared_ptr<GroupType> group;
-    Affine3f transform;
+    MotionTransform motion;
   };
+
 
   /// Embree's context filter: rejects candidate hits inside a clipping volume. Instanced
   /// candidates arrive in their group's space and are moved to the world's first.
@@ -364,7 +376,7 @@ private:
               RTCRayN_org_z(args->ray, args->N, i) + t * RTCRayN_dir_z(args->ray, args->N, i)};
       const unsigned instance = RTCHitN_instID(args->hit, args->N, i, 0);
       if (instance != RTC_INVALID_GEOMETRY_ID)
-        p = world.instances_[instance - world.geometry_count()].transform.point(p);
+        p = world.instances_[instance - world.geometry_count()].motion.at(RTCRayN_time(args->ray, args->N, i)).point(p);
       if (world.clipping_->clipped(p)) args->valid[i] = 0;
     }
   }
