@@ -175,12 +175,15 @@ MotionTransform read_placement(const Object& owner, const std::function<const Pa
     const auto [start, end] = keys(decompositions.size());
     return MotionTransform(std::move(decompositions), start, end);
   }
-  const Param* p = find("transform");
+  // An instance also takes OSPRay's older name `xfm` (OSPRay 3.1 reads it, and its test
+  // scenes use it) where it has no `transform`.
+  const char* id = owner.kind() == OSP_INSTANCE && !find("transform") && find("xfm") ? "xfm" : "transform";
+  const Param* p = find(id);
   if (!p) return {};
   if (p->type != OSP_AFFINE3F)
-    throw Error(owner.name() + ": parameter 'transform' must be an affine3f, got " + type_name(p->type));
+    throw Error(owner.name() + ": parameter '" + id + "' must be an affine3f, got " + type_name(p->type));
   const Affine3f transform = read_affine(p->bytes.data());
-  check_affine(owner, transform, "parameter 'transform'");
+  check_affine(owner, transform, std::string("parameter '") + id + "'");
   return MotionTransform(transform);
 }
 
