@@ -2652,13 +2652,18 @@ TEST_CASE("volume: bad input is named through the error callback", "[c_api][volu
   ospCommit(model);
   api.expect_error("volumetric model: parameter 'anisotropy' must be in [-1, 1], got 1.500000");
   ospSetFloat(model, "anisotropy", -0.3f);
-  ospSetFloat(model, "gradientShadingScale", 1.f);  // OSPRay's, not used yet
+  ospSetFloat(model, "gradientShadingScale", 1.5f);
+  ospCommit(model);
+  api.expect_error("volumetric model: parameter 'gradientShadingScale' must be in [0, 1], got 1.500000");
+  ospSetFloat(model, "gradientShadingScale", NAN);
+  ospCommit(model);
+  api.expect_error("volumetric model: parameter 'gradientShadingScale' must be in [0, 1]");
+  ospSetFloat(model, "gradientShadingScale", 1.f);
   ospCommit(model);
   CHECK(api.messages.errors.empty());
   unused = false;
-  for (const auto& s : api.messages.status)
-    unused |= s.find("volumetric model: parameter 'gradientShadingScale' is not used") != std::string::npos;
-  CHECK(unused);
+  for (const auto& s : api.messages.status) unused |= s.find("'gradientShadingScale' is not used") != std::string::npos;
+  CHECK(!unused);
   OSPVolume uncommitted_volume = ospNewVolume("structuredRegular");
   OSPVolumetricModel other = ospNewVolumetricModel(uncommitted_volume);
   ospSetObject(other, "transferFunction", tf);

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
+#include <numbers>
 #include <vector>
 
 #include "sciray/io/frame_io.hpp"
@@ -416,4 +417,64 @@ TEST_CASE("the ray marcher converges to a double-precision reference integral on
   INFO("worst error at 1 sample a cell " << worst_coarse << ", at 8: " << worst_fine);
   CHECK(worst_fine < 1e-3);
   CHECK(worst_fine < worst_coarse);
+}
+
+namespace {
+
+/// The unit cube whose value grows linearly with z from 0 to 1 (5x5x9 voxels): its
+/// gradient points along +z everywhere, also where central differences are cut at a face.
+std::shared_ptr<const StructuredRegular<float>> z_ramp() {
+  const VolumeDims d{5, 5, 9};
+  auto voxels = std::make_shared<std::vector<float>>();
+  for (std::int64_t z = 0; z < d[2]; ++z)
+    for (int k = 0; k < 25; ++k) voxels->push_back(static_cast<float>(z) / 8.f);
+  return std::make_shared<StructuredRegular<float>>(LinearLayout<float>(voxels->data(), d, voxels),
+                                                    StructuredRegular<float>::Grid{{0, 0, 0}, {0.25f, 0.25f, 0.125f}});
+}
+
+}  // namespace
+
+TEST_CASE("gradient shading lerps each sample from its colour to its colour lit on the gradient", "[volume][render]") {
+  // Opacity = value on the z ramp: every ray along +z integrates to A = 1 − exp(−D/2)
+  // (D the density scale), and a constant colour c shows as c·A. The normal is the
+  // negated gradient, −z, facing the camera. Lit by an ambient light a and a distant
+  // light of irradiance E arriving at cos θ = 0.6 to it (a surface without material:
+  // c/π per unit irradiance), a fully shaded sample is c·(a + 0.6·E/π).
+  const Vec3f c{0.2f, 0.6f, 1.f};
+  const float a = 0.25f, irradiance = 1.5f, density = 3.f;
+  const float opacity = 1.f - std::exp(-density / 2);
+  AmbientLight ambient;
+  ambient.intensity = a;
+  DistantLight front;
+  front.direction = {0.f, -0.8f, 0.6f};  // travels away from the camera, towards +z
+  front.intensity = irradiance;
+  DistantLight behind = front;
+  behind.direction = {0.f, 0.f, -1.f};  // towards the camera: lights the far side only
+  const auto check = [&](float scale, const std::vector<Light>& lights, float expected_light) {
+    accel::Device device;
+    shim::EngineWorld world(device);
+    VolumetricModel<StructuredRegular<float>> model(z_ramp(), TransferFunction({c}, {0.f, 1.f}, {0.f, 1.f}), density);
+    model.set_gradient_shading_scale(scale);
+    world.add_volume(std::move(model));
+    SciVisParams params;
+    params.lights = lights;
+    params.volume_sampling_rate = 2.f;
+    const float light = 1.f + scale * (expected_light - 1.f);  // the lerp of the colour
+    for (auto isa : supported_isas()) {
+      INFO(simd::isa_name(isa) << " at scale " << scale);
+      const FrameBuffer fb = render_volume(isa, world, params);
+      for (int pixel = 0; pixel < 256; ++pixel) {
+        REQUIRE(fb.color32f()[4 * pixel + 3] == Approx(opacity).epsilon(1e-5));  // shading keeps the opacity
+        for (int k = 0; k < 3; ++k) REQUIRE(fb.color32f()[4 * pixel + k] == Approx(c[k] * light * opacity).epsilon(1e-4));
+      }
+    }
+  };
+  const float lit = a + 0.6f * irradiance / std::numbers::pi_v<float>;
+  check(0.f, {ambient, front}, lit);        // exactly the unshaded colour
+  check(1.f, {ambient, front}, lit);        // exactly the lit colour
+  check(0.5f, {ambient, front}, lit);       // half way
+  check(1.f, {ambient, behind}, a);         // one-sided: light from behind the normal is not seen
+  VolumetricModel<StructuredRegular<float>> model(z_ramp(), TransferFunction({c}, {1.f}, {0.f, 1.f}));
+  CHECK_THROWS_WITH(model.set_gradient_shading_scale(1.5f), Catch::Contains("'gradientShadingScale' must be in [0, 1]"));
+  CHECK_THROWS_WITH(model.set_gradient_shading_scale(std::nanf("")), Catch::Contains("must be in [0, 1]"));
 }

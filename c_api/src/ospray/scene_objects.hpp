@@ -127,6 +127,7 @@ private:
   Ref<TransferFunctionObject> transfer_function_;
   float density_scale_ = 1.f;
   float anisotropy_ = 0.f;
+  float gradient_shading_scale_ = 0.f;
   std::mutex mutex_;  ///< guards the engine model, which world builds refresh
   EngineVolumetricModel model_;
   std::uint64_t model_volume_version_ = 0;  ///< the volume commit the model was built from

@@ -6,6 +6,7 @@
 // packet would pay for all of them in every lane.
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <limits>
 #include <memory>
 #include <string>
@@ -37,7 +38,6 @@ struct RendererParams {
   float min_contribution = 0.001f;  ///< minContribution: paths carrying less are stopped
   float volume_sampling_rate = 1.f;  ///< volumeSamplingRate: samples per cell
   bool empty_space_skipping = true;
-  bool volume_gradient_shading = false;
   bool volume_preintegration = false;    ///< see VolumeIntegration::preintegration
   bool volume_adaptive_sampling = false;  ///< see VolumeIntegration::adaptive_sampling
 };
@@ -188,36 +188,28 @@ inline float ray_offset(const Vec3f& p, float scene_size) {
 }
 
 /// Volumes of `world` integrated along `ray` up to `t_end`, composited front to back into
-/// `color` under `transmittance` (both updated).
-template <class Arch, class WorldT>
-void composite_volumes(const WorldT& world, const RendererParams& params, const Vec3f& to_light,
-                       const Ray<simd::Float<Arch>>& ray, const simd::Mask<Arch>& active,
-                       const simd::Float<Arch>& t_end, Vec3<simd::Float<Arch>>& color,
-                       Vec3<simd::Float<Arch>>& transmittance) {
+/// `color` under `transmittance` (both updated). `shade` lights gradient-shaded samples
+/// (VolumetricModel::integrate); without it no sample is lit.
+template <class Arch, class WorldT, class Shade = std::nullptr_t>
+void composite_volumes(const WorldT& world, const RendererParams& params, const Ray<simd::Float<Arch>>& ray,
+                       const simd::Mask<Arch>& active, const simd::Float<Arch>& t_end,
+                       Vec3<simd::Float<Arch>>& color, Vec3<simd::Float<Arch>>& transmittance,
+                       const Shade& shade = nullptr) {
   using Fl = simd::Float<Arch>;
   if constexpr (requires { world.volume_count(); }) {
     if (!world.volume_count()) return;
     VolumeIntegration how;
     how.sampling_rate = params.volume_sampling_rate;
     how.empty_space_skipping = params.empty_space_skipping;
-    how.gradient_shading = params.volume_gradient_shading;
-    how.to_light = to_light;
     how.clipping = world.clipping();
     how.preintegration = params.volume_preintegration;
     how.adaptive_sampling = params.volume_adaptive_sampling;
     world.for_each_volume([&](const auto& model) {
-      const VolumeSample<Arch> v = model.template integrate<Arch>(ray, active, t_end, how);
+      const VolumeSample<Arch> v = model.template integrate<Arch>(ray, active, t_end, how, shade);
       color = color + transmittance * v.color;
       transmittance = transmittance * (Fl(1.f) - v.alpha);
     });
   }
-}
-
-/// The direction towards the first distant light (for volume gradient shading).
-inline Vec3f key_light_direction(const std::vector<Light>& lights) {
-  for (const Light& l : lights)
-    if (const auto* d = std::get_if<DistantLight>(&l)) return -normalize(d->direction);
-  return {0.f, 0.f, 1.f};
 }
 
 }  // namespace detail

@@ -79,7 +79,7 @@ public:
   static constexpr bool is_ao = std::is_same_v<Params, AOParams>;
 
   LocalRenderer(const WorldT& world, const Params& params)
-      : world_(&world), params_(params), to_light_(key_light_direction(params.lights)) {
+      : world_(&world), params_(params) {
     validate(params_, world.materials_needed(), is_ao ? "ao" : "scivis");
     if (params_.ao_samples < 0) throw Error(std::string(is_ao ? "ao" : "scivis") + " renderer: parameter 'aoSamples' must not be negative");
     if (!(params_.ao_distance > 0.f)) throw Error(std::string(is_ao ? "ao" : "scivis") + " renderer: parameter 'aoDistance' must be positive");
@@ -134,8 +134,15 @@ public:
     M live = active;
     for (int depth = 0; simd::any(live); ++depth) {
       const auto hit = accel::intersect<Arch>(world_->scene(), ray, live, depth == 0, world_->hit_filter());
-      composite_volumes<Arch>(*world_, params_, to_light_, ray, live, simd::select(hit.hit, hit.t, inf), color,
-                              transmittance);
+      const F t_end = simd::select(hit.hit, hit.t, inf);
+      if constexpr (is_ao) {
+        composite_volumes<Arch>(*world_, params_, ray, live, t_end, color, transmittance);  // unlit, as OSPRay's ao
+      } else {
+        composite_volumes<Arch>(*world_, params_, ray, live, t_end, color, transmittance,
+                                [&](const Vec3<F>& p, const Vec3<F>& n, const Vec3<F>& c, const M& lanes) {
+                                  return lit_volume_sample(p, n, c, lanes, rng);
+                                });
+      }
       const M surfaces = live & hit.hit;
       if (depth == 0) record_first_hit(hit, out);
       Vec3<F> pass(splat(0.f));
@@ -313,6 +320,28 @@ private:
     return out;
   }
 
+  /// A gradient-shaded volume sample of colour c at p lit as OSPRay's scivis lights it
+  /// (a surface without material, normal n): c/π from every light on n's side (shadowed
+  /// by surfaces with `shadows`) plus c times the ambient light (and its AO visibility).
+  /// No two-sided lighting: n points out of the structure, and light behind it is not seen.
+  Vec3<F> lit_volume_sample(const Vec3<F>& p, const Vec3<F>& n, const Vec3<F>& c, const M& lanes,
+                            PixelRandom* rng) const {
+    Vec3<F> lit = c * Vec3<F>(ambient_) * ambient_visibility(p, n, lanes, rng);
+    const Vec3<F> diffuse = c * F(1.f / pi);
+    for (const Light* light : direct_lights_) {
+      Vec3<F> wi, weight;
+      F dist;
+      if (!sample_light(*light, p, n, lanes, wi, weight, dist)) continue;
+      const F cos_theta = dot(n, wi);
+      const M lit_lanes = lanes & (cos_theta > F(0.f));
+      if (!simd::any(lit_lanes)) continue;
+      Vec3<F> arriving = weight;
+      if (params_.shadows) arriving = arriving * shadow_transmittance(p, wi, dist, lit_lanes);
+      lit = lit + select(lit_lanes, diffuse * cos_theta * arriving, Vec3<F>(splat(0.f)));
+    }
+    return lit;
+  }
+
   /// Per-lane light samples gathered into packets; false where no lane gets light.
   bool sample_light(const Light& light, const Vec3<F>& p, const Vec3<F>& n, const M& lanes,
                     Vec3<F>& wi, Vec3<F>& weight, F& dist) const {
@@ -413,7 +442,6 @@ private:
 
   const WorldT* world_;
   Params params_;
-  Vec3f to_light_;
   std::vector<ObjMaterial> surfaces_;
   std::vector<bool> luminous_;
   std::vector<bool> textured_;        ///< per material: has maps
