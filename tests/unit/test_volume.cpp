@@ -478,3 +478,58 @@ TEST_CASE("gradient shading lerps each sample from its colour to its colour lit 
   CHECK_THROWS_WITH(model.set_gradient_shading_scale(1.5f), Catch::Contains("'gradientShadingScale' must be in [0, 1]"));
   CHECK_THROWS_WITH(model.set_gradient_shading_scale(std::nanf("")), Catch::Contains("must be in [0, 1]"));
 }
+
+TEST_CASE("map_maxDepth ends camera rays: volumes are integrated and surfaces seen only up to it", "[volume][render]") {
+  // The camera is at z = −5 looking along +z: a depth of 5.3 reaches 0.3 into the unit
+  // cube. Left half of the image: depth 5.3; right half: 5.8.
+  const auto depths = std::make_shared<const Texture2D>(2, 1, std::vector<Vec3f>{splat(5.3f), splat(5.8f)}, true);
+  auto voxels = std::make_shared<std::vector<float>>(8, 1.f);
+  const auto volume = std::make_shared<StructuredRegular<float>>(LinearLayout<float>(voxels->data(), {2, 2, 2}, voxels),
+                                                                 StructuredRegular<float>::Grid{});
+  SECTION("a constant volume of σ = 2 absorbs 1 − exp(−2·0.3) on the left, 1 − exp(−2·0.8) on the right") {
+    accel::Device device;
+    shim::EngineWorld world(device);
+    world.add_volume(VolumetricModel<StructuredRegular<float>>(volume, TransferFunction({{1, 1, 1}}, {2.f}, {0.f, 2.f})));
+    SciVisParams params;
+    params.max_depth = depths;
+    for (auto isa : supported_isas()) {
+      INFO(simd::isa_name(isa));
+      const FrameBuffer fb = render_volume(isa, world, params);
+      for (int y = 0; y < 16; ++y)
+        for (int x = 0; x < 16; ++x) {
+          const float reach = x < 8 ? 0.3f : 0.8f;
+          REQUIRE(fb.color32f()[4 * (16 * y + x) + 3] == Approx(1.f - std::exp(-2.f * reach)).epsilon(1e-4));
+        }
+    }
+  }
+  SECTION("a plane at z = 0.5 (5.5 away) is hidden on the left and seen on the right, by every renderer") {
+    accel::Device device;
+    shim::EngineWorld world(device);
+    world.add(Planes({{0.f, 0.f, 1.f, -0.5f}}, {}));
+    SciVisParams scivis;
+    scivis.lights = {AmbientLight{}};
+    scivis.max_depth = depths;
+    AOParams ao;
+    ao.max_depth = depths;
+    PathTracerParams pathtracer;
+    pathtracer.lights = {AmbientLight{}};
+    pathtracer.max_depth = depths;
+    for (const shim::RendererConfig& renderer : std::vector<shim::RendererConfig>{scivis, ao, pathtracer}) {
+      INFO("renderer " << renderer.index());
+      const auto& kernels = shim::kernels(shim::select_isa());
+      kernels.commit(world);
+      OrthographicCamera camera;
+      camera.position = {0.5f, 0.5f, -5.f};
+      camera.direction = {0.f, 0.f, 1.f};
+      camera.height = 1.f;
+      FrameBuffer fb(16, 16, ColorFormat::rgba32f);
+      kernels.render(world, renderer, camera, fb, nullptr, FrameSettings{});
+      for (int y = 0; y < 16; ++y)
+        for (int x = 0; x < 16; ++x) {
+          // The background is transparent black; the plane is opaque.
+          REQUIRE(fb.color32f()[4 * (16 * y + x) + 3] == Approx(x < 8 ? 0.f : 1.f));
+          if (x >= 8) REQUIRE(fb.color32f()[4 * (16 * y + x)] > 0.1f);
+        }
+    }
+  }
+}

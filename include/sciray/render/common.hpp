@@ -34,6 +34,10 @@ struct RendererParams {
   Vec3f background_color{0.f, 0.f, 0.f};  ///< backgroundColor (rgb)
   float background_alpha = 0.f;           ///< backgroundColor (alpha)
   std::shared_ptr<const Texture2D> backplate;  ///< map_backplate: screen-space background image
+  /// map_maxDepth: how far camera rays reach, per pixel (its first channel at the pixel
+  /// centre's screen position): surfaces and volumes beyond are not seen, as behind a
+  /// rasterized image's depth buffer that the frame is composited with.
+  std::shared_ptr<const Texture2D> max_depth;
   int max_path_length = 20;   ///< maxPathLength: surfaces a ray may pass through or bounce off
   float min_contribution = 0.001f;  ///< minContribution: paths carrying less are stopped
   float volume_sampling_rate = 1.f;  ///< volumeSamplingRate: samples per cell
@@ -185,6 +189,21 @@ void for_each_surface(const WorldT& world, const Ray<simd::Float<Arch>>& ray, co
 inline float ray_offset(const Vec3f& p, float scene_size) {
   const float magnitude = std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)});
   return 8e-6f * magnitude + 1e-6f * scene_size;
+}
+
+/// How far each active lane's camera ray reaches: map_maxDepth at its pixel centre
+/// (OSPRay's Renderer_getMaxDepth), infinity without the map.
+template <class Arch>
+simd::Float<Arch> max_depth(const RendererParams& params, const simd::Mask<Arch>& active,
+                            const SampleIndex<Arch>& index) {
+  constexpr float inf = std::numeric_limits<float>::infinity();
+  if (!params.max_depth) return simd::Float<Arch>(inf);
+  alignas(64) float depth[simd::width<Arch>];
+  for (int i = 0; i < simd::width<Arch>; ++i)
+    depth[i] = simd::lane(active, i)
+                   ? params.max_depth->sample(simd::lane(index.center_x, i), simd::lane(index.center_y, i)).x
+                   : inf;
+  return simd::load<Arch>(depth);
 }
 
 /// Volumes of `world` integrated along `ray` up to `t_end`, composited front to back into

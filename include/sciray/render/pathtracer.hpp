@@ -69,6 +69,7 @@ public:
       path[i].org = {simd::lane(camera_ray.org.x, i), simd::lane(camera_ray.org.y, i), simd::lane(camera_ray.org.z, i)};
       path[i].dir = {simd::lane(camera_ray.dir.x, i), simd::lane(camera_ray.dir.y, i), simd::lane(camera_ray.dir.z, i)};
     }
+    const F camera_reach = detail::max_depth<Arch>(params_, active, index);
     PixelSample<Arch> out;
     out.t = F(inf);
     alignas(64) float first[7][W];  // t, normal, albedo of the first hit
@@ -94,7 +95,7 @@ public:
       ray.org = {simd::load<Arch>(lanes[0]), simd::load<Arch>(lanes[1]), simd::load<Arch>(lanes[2])};
       ray.dir = {simd::load<Arch>(lanes[3]), simd::load<Arch>(lanes[4]), simd::load<Arch>(lanes[5])};
       ray.tnear = F(0.f);
-      ray.tfar = F(inf);
+      ray.tfar = depth == 0 ? camera_reach : F(inf);
       const M live = simd::load<Arch>(lanes[6]) > F(0.f);
       const auto hit = accel::intersect<Arch>(world_->scene(), ray, live, depth == 0, world_->hit_filter());
       F t_event = simd::select(hit.hit, hit.t, F(inf));

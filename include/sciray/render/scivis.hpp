@@ -131,6 +131,7 @@ public:
     out.t = inf;
     Vec3<F> color(splat(0.f)), transmittance(splat(1.f));
     Ray<F> ray = camera_ray;
+    ray.tfar = simd::min(ray.tfar, max_depth<Arch>(params_, active, index));
     M live = active;
     for (int depth = 0; simd::any(live); ++depth) {
       const auto hit = accel::intersect<Arch>(world_->scene(), ray, live, depth == 0, world_->hit_filter());
