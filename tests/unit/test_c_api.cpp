@@ -2873,13 +2873,28 @@ TEST_CASE("isosurface: bad input is named through the error callback", "[c_api][
   ospCommit(g);
   CHECK(api.messages.errors.empty());
 
-  // Colours: one per isovalue cannot show yet; one for all and a material's can.
+  // Colours: one per isovalue (the isosurface's primitives; fewer is an error), or one
+  // for all; here the material's.
   OSPGeometricModel m = ospNewGeometricModel(g);
   const float red[6] = {1.f, 0.f, 0.f, 1.f, 0.f, 0.f};
   set_array(m, "color", red, OSP_VEC3F, 2);
   ospCommit(m);
-  api.expect_error("ospCommit: geometric model: parameter 'color' has 2 colours; isosurface geometry takes one colour "
-                   "for all its primitives");
+  CHECK(api.messages.errors.empty());
+  const float three_isovalues[3] = {1.f, 2.f, 3.f};
+  set_array(g, "isovalue", three_isovalues, OSP_FLOAT, 3);
+  ospCommit(g);
+  ospCommit(m);
+  api.expect_error("geometric model: parameter 'color' has 2 elements but there are 3 primitives");
+  const float blue[3] = {0.f, 0.f, 1.f};
+  set_array(m, "color", blue, OSP_VEC3F, 1);
+  ospCommit(m);
+  CHECK(api.messages.errors.empty());
+  const float blue_alpha[8] = {0.f, 0.f, 1.f, 0.5f};
+  set_array(m, "color", blue_alpha, OSP_VEC4F, 1);  // one translucent colour: spread over the isovalues
+  ospCommit(m);
+  CHECK(api.messages.errors.empty());
+  ospSetFloat(g, "isovalue", 2.f);
+  ospCommit(g);
   ospRemoveParam(m, "color");
   OSPMaterial material = ospNewMaterial("obj");
   ospSetVec3f(material, "kd", 1.f, 0.f, 0.f);

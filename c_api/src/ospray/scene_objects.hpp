@@ -308,7 +308,7 @@ private:
   Ref<Material> material_;
   std::vector<MaterialChoice> material_choices_;
   PaddedVector<float> face_colors_;
-  /// One `color` (RGBA) for all primitives; its alpha is below 1 only on curves and isosurfaces.
+  /// One `color` (RGBA) for all primitives; its alpha is below 1 only on curves.
   std::optional<std::array<float, 4>> uniform_color_;
   bool invert_normals_ = false;
 };
