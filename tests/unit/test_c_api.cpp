@@ -3071,6 +3071,23 @@ TEST_CASE("slice: a volume texture as map_kd colours a plane by the volume's tra
     return std::array<float, 3>{1.f - s, 1.f - s, s};
   });
 
+  // OSPRay 3's form, the volume and a transfer function of the texture's own, shows the
+  // same; recommits of either reach it.
+  ospSetObject(scene.texture, "volume", scene.volume);
+  ospSetObject(scene.texture, "transferFunction", scene.tf);
+  ospCommit(scene.texture);
+  scene.check([](float x, float y) {
+    const float s = (x + 2 * y + 3.f) / 6.f;
+    return std::array<float, 3>{1.f - s, 1.f - s, s};
+  });
+  const float red_to_green[6] = {1.f, 0.f, 0.f, 0.f, 1.f, 0.f};
+  set_array(scene.tf, "color", red_to_green, OSP_VEC3F, 2);
+  ospCommit(scene.tf);
+  scene.check([](float x, float y) {
+    const float s = (x + 2 * y + 3.f) / 6.f;
+    return std::array<float, 3>{1.f - s, s, 0.f};
+  });
+
   // Picks land on the plane and report the slice's model.
   Picker pick;
   check_pick(pick, scene.world, {0.3f, 0.7f, -5.f}, {0.f, 0.f, 1.f}, scene.instance, scene.model, {0.3f, 0.7f, 0.5f});
@@ -3089,11 +3106,23 @@ TEST_CASE("slice: volume textures' bad input is named through the error callback
 
   OSPTexture texture = ospNewTexture("volume");
   ospCommit(texture);
-  api.expect_error("ospCommit: volume texture: required parameter 'volume' (OSPVolumetricModel) is missing");
+  api.expect_error("ospCommit: volume texture: required parameter 'volume' (OSPVolume, with 'transferFunction') is "
+                   "missing");
   ospSetObject(texture, "volume", scene.volume);
   ospCommit(texture);
-  api.expect_error("volume texture: parameter 'volume' must be OSPVolumetricModel, got OSPVolume (a volume texture takes "
-               "the volumetric model, whose transfer function gives the colours)");
+  api.expect_error("volume texture: required parameter 'transferFunction' (OSPTransferFunction) is missing");
+  ospSetObject(texture, "transferFunction", scene.volume);
+  ospCommit(texture);
+  api.expect_error("volume texture: parameter 'transferFunction' must be OSPTransferFunction, got OSPVolume");
+  ospSetObject(texture, "volume", scene.tf);
+  ospCommit(texture);
+  api.expect_error("volume texture: parameter 'volume' must be OSPVolume (OSPRay 3, with 'transferFunction') or "
+                   "OSPVolumetricModel (OSPRay 2), got OSPTransferFunction");
+  ospSetObject(texture, "volume", scene.volume_model);
+  ospCommit(texture);
+  api.expect_error("volume texture: parameter 'transferFunction' is for an OSPVolume 'volume'; a volumetric model "
+                   "brings its own");
+  ospRemoveParam(texture, "transferFunction");
   OSPVolumetricModel uncommitted_model = ospNewVolumetricModel(scene.volume);
   ospSetObject(texture, "volume", uncommitted_model);
   ospCommit(texture);

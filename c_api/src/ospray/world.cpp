@@ -15,8 +15,8 @@ namespace {
 /// `colors` (the model's colours times kd, or kd alone), sampling the texture's volume
 /// and transfer function as currently committed.
 VolumeSlice model_slice(const GeometricModel& model, const PlaneData& data, std::vector<float> colors) {
-  const VolumetricModelObject& source = *model.volume_texture()->volume_model();
-  const TransferFunction& tf = *source.transfer_function()->transfer_function();
+  const TextureObject& texture = *model.volume_texture();
+  const TransferFunction& tf = *texture.transfer_function()->transfer_function();
   return std::visit(
       [&](const auto& v) -> VolumeSlice {
         if constexpr (std::is_same_v<std::decay_t<decltype(v)>, std::monostate>)
@@ -24,7 +24,7 @@ VolumeSlice model_slice(const GeometricModel& model, const PlaneData& data, std:
         else
           return VolumeSlice(data.planes, data.bounds, v, tf, std::move(colors));
       },
-      source.volume()->volume());
+      texture.sampled_volume()->volume());
 }
 
 }  // namespace
