@@ -138,5 +138,6 @@ TEST_CASE("a colour per isovalue shows on that isovalue's shell", "[isosurface][
   CHECK(centre_colour({6.f, 3.f}, {1, 0, 0, 1, 0, 0, 1, 1}) == red);
   // A transparent outer shell lets the inner one's colour through.
   CHECK(centre_colour({3.f, 6.f}, {1, 0, 0, 1, 0, 0, 1, 0}) == red);
-  CHECK_THROWS_WITH(Isosurface(volume, {3.f, 6.f}).set_colors({1, 0, 0, 1}), Catch::Contains("1 colours for 2 isovalues"));
+  CHECK_THROWS_WITH(Isosurface(volume, {3.f, 6.f, 9.f}).set_colors({1, 0, 0, 1, 0, 0, 1, 1}),
+                    Catch::Contains("2 colours for 3 isovalues"));
 }
