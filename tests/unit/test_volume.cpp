@@ -541,3 +541,31 @@ TEST_CASE("map_maxDepth ends camera rays: volumes are integrated and surfaces se
     }
   }
 }
+
+TEST_CASE("overlapping volumes interleave their samples in depth", "[volume][render]") {
+  // Two constant volumes of σ = 2 filling the unit cube, red and blue. Marched together,
+  // step by step (4 a cell: n = 4 steps of h = 1/4), each step composites the red sample
+  // then the blue one, each absorbing a = 1 − exp(−2h): red = a·ΣT, blue = (1 − a)·a·ΣT
+  // over T_k = ((1 − a)²)^k. One after the other, red would be 1 − exp(−2) and cover most of the blue.
+  auto voxels = std::make_shared<std::vector<float>>(8, 1.f);
+  const auto volume = std::make_shared<StructuredRegular<float>>(LinearLayout<float>(voxels->data(), {2, 2, 2}, voxels),
+                                                                 StructuredRegular<float>::Grid{});
+  accel::Device device;
+  shim::EngineWorld world(device);
+  world.add_volume(VolumetricModel<StructuredRegular<float>>(volume, TransferFunction({{1, 0, 0}}, {2.f}, {0.f, 2.f})));
+  world.add_volume(VolumetricModel<StructuredRegular<float>>(volume, TransferFunction({{0, 0, 1}}, {2.f}, {0.f, 2.f})));
+  SciVisParams params;
+  params.volume_sampling_rate = 4.f;
+  const double a = 1 - std::exp(-2.0 / 4);
+  double sum = 0, through = 1;
+  for (int k = 0; k < 4; ++k) sum += through, through *= (1 - a) * (1 - a);
+  for (auto isa : supported_isas()) {
+    INFO(simd::isa_name(isa));
+    const FrameBuffer fb = render_volume(isa, world, params);
+    for (const int pixel : inner_pixels()) {
+      REQUIRE(fb.color32f()[4 * pixel + 0] == Approx(a * sum).epsilon(1e-4));
+      REQUIRE(fb.color32f()[4 * pixel + 2] == Approx((1 - a) * a * sum).epsilon(1e-4));
+      REQUIRE(fb.color32f()[4 * pixel + 3] == Approx(1 - through).epsilon(1e-4));
+    }
+  }
+}

@@ -206,14 +206,44 @@ simd::Float<Arch> max_depth(const RendererParams& params, const simd::Mask<Arch>
   return simd::load<Arch>(depth);
 }
 
+/// Whether any of the world's volumes overlap, and if so how they are marched together:
+/// in slabs one step of the finest of them long, across their union.
+struct VolumeOverlap {
+  bool any = false;
+  float slab = 0.f;  ///< world units
+  Box3f bounds;      ///< of all volumes
+};
+
+template <class WorldT>
+VolumeOverlap volume_overlap(const WorldT& world, const RendererParams& params) {
+  VolumeOverlap out;
+  if constexpr (requires { world.volume_count(); }) {
+    std::vector<Box3f> boxes;
+    out.slab = std::numeric_limits<float>::infinity();
+    world.for_each_volume([&](const auto& model) {
+      const Box3f b = model.bounds();
+      for (const Box3f& o : boxes)
+        out.any = out.any || (b.lower.x < o.upper.x && o.lower.x < b.upper.x && b.lower.y < o.upper.y &&
+                              o.lower.y < b.upper.y && b.lower.z < o.upper.z && o.lower.z < b.upper.z);
+      boxes.push_back(b);
+      out.bounds.extend(b);
+      out.slab = std::min(out.slab, model.step(params.volume_sampling_rate));
+    });
+  }
+  return out;
+}
+
 /// Volumes of `world` integrated along `ray` up to `t_end`, composited front to back into
 /// `color` under `transmittance` (both updated). `shade` lights gradient-shaded samples
-/// (VolumetricModel::integrate); without it no sample is lit.
+/// (VolumetricModel::integrate); without it no sample is lit. Volumes that overlap
+/// (`overlap`, from volume_overlap) are composited slab by slab, each volume over the
+/// slab in turn, so that their samples interleave in depth as OSPRay's do (one after the
+/// other, a volume behind another would show in front of it).
 template <class Arch, class WorldT, class Shade = std::nullptr_t>
-void composite_volumes(const WorldT& world, const RendererParams& params, const Ray<simd::Float<Arch>>& ray,
-                       const simd::Mask<Arch>& active, const simd::Float<Arch>& t_end,
-                       Vec3<simd::Float<Arch>>& color, Vec3<simd::Float<Arch>>& transmittance,
-                       const Shade& shade = nullptr) {
+void composite_volumes(const WorldT& world, const RendererParams& params, const VolumeOverlap& overlap,
+                       const Ray<simd::Float<Arch>>& ray, const simd::Mask<Arch>& active,
+                       const simd::Float<Arch>& t_end, Vec3<simd::Float<Arch>>& color,
+                       Vec3<simd::Float<Arch>>& transmittance, const Shade& shade = nullptr) {
   using Fl = simd::Float<Arch>;
   if constexpr (requires { world.volume_count(); }) {
     if (!world.volume_count()) return;
@@ -223,11 +253,32 @@ void composite_volumes(const WorldT& world, const RendererParams& params, const 
     how.clipping = world.clipping();
     how.preintegration = params.volume_preintegration;
     how.adaptive_sampling = params.volume_adaptive_sampling;
-    world.for_each_volume([&](const auto& model) {
-      const VolumeSample<Arch> v = model.template integrate<Arch>(ray, active, t_end, how, shade);
-      color = color + transmittance * v.color;
-      transmittance = transmittance * (Fl(1.f) - v.alpha);
-    });
+    const auto composite = [&](const Ray<Fl>& segment, const simd::Mask<Arch>& lanes, const Fl& end) {
+      world.for_each_volume([&](const auto& model) {
+        const VolumeSample<Arch> v = model.template integrate<Arch>(segment, lanes, end, how, shade);
+        color = color + transmittance * v.color;
+        transmittance = transmittance * (Fl(1.f) - v.alpha);
+      });
+    };
+    if (!overlap.any) return composite(ray, active, t_end);
+    // The slabs cover where the ray crosses the volumes' union box.
+    const Vec3<Fl> inv{Fl(1.f) / ray.dir.x, Fl(1.f) / ray.dir.y, Fl(1.f) / ray.dir.z};
+    const Vec3<Fl> t0 = (Vec3<Fl>(overlap.bounds.lower) - ray.org) * inv;
+    const Vec3<Fl> t1 = (Vec3<Fl>(overlap.bounds.upper) - ray.org) * inv;
+    const Vec3<Fl> near = min(t0, t1), far = max(t0, t1);
+    Fl start = simd::max(simd::max(simd::max(near.x, near.y), near.z), ray.tnear);
+    const Fl leave = simd::min(simd::min(simd::min(far.x, far.y), far.z), simd::min(t_end, ray.tfar));
+    auto lanes = active & (start < leave);
+    const Fl slab(overlap.slab);
+    Ray<Fl> segment = ray;
+    while (simd::any(lanes)) {
+      segment.tnear = start;
+      composite(segment, lanes, simd::min(start + slab, leave));
+      start = start + slab;
+      // Early ray termination, as each volume's own march stops at opacity 0.99.
+      const Fl left = simd::max(simd::max(transmittance.x, transmittance.y), transmittance.z);
+      lanes = lanes & (start < leave) & (left > Fl(0.01f));
+    }
   }
 }
 

@@ -51,7 +51,8 @@ public:
   using M = simd::Mask<Arch>;
   static constexpr int W = simd::width<Arch>;
 
-  PathTracer(const WorldT& world, const PathTracerParams& params) : world_(&world), params_(params) {
+  PathTracer(const WorldT& world, const PathTracerParams& params)
+      : world_(&world), params_(params), volume_overlap_(detail::volume_overlap(world, params)) {
     validate(params_, world.materials_needed(), "pathtracer");
     if (params_.roulette_path_length < 0)
       throw Error("pathtracer renderer: parameter 'roulettePathLength' must not be negative");
@@ -259,7 +260,7 @@ private:
   /// The camera ray's volume opacity in front of `t_end`, integrated as scivis does.
   void camera_volume_alpha(Path* path, const Ray<F>& ray, const M& live, const F& t_end) const {
     Vec3<F> color(splat(0.f)), transmittance(splat(1.f));
-    detail::composite_volumes<Arch>(*world_, params_, ray, live, t_end, color, transmittance);
+    detail::composite_volumes<Arch>(*world_, params_, volume_overlap_, ray, live, t_end, color, transmittance);
     for (int i = 0; i < W; ++i)
       path[i].volume_alpha = 1.f - (simd::lane(transmittance.x, i) + simd::lane(transmittance.y, i) +
                                     simd::lane(transmittance.z, i)) / 3.f;
@@ -403,6 +404,7 @@ private:
 
   const WorldT* world_;
   PathTracerParams params_;
+  detail::VolumeOverlap volume_overlap_;  ///< for the camera ray's volume alpha
   float scene_size_ = 1.f;
 };
 

@@ -79,7 +79,7 @@ public:
   static constexpr bool is_ao = std::is_same_v<Params, AOParams>;
 
   LocalRenderer(const WorldT& world, const Params& params)
-      : world_(&world), params_(params) {
+      : world_(&world), params_(params), volume_overlap_(volume_overlap(world, params)) {
     validate(params_, world.materials_needed(), is_ao ? "ao" : "scivis");
     if (params_.ao_samples < 0) throw Error(std::string(is_ao ? "ao" : "scivis") + " renderer: parameter 'aoSamples' must not be negative");
     if (!(params_.ao_distance > 0.f)) throw Error(std::string(is_ao ? "ao" : "scivis") + " renderer: parameter 'aoDistance' must be positive");
@@ -137,9 +137,10 @@ public:
       const auto hit = accel::intersect<Arch>(world_->scene(), ray, live, depth == 0, world_->hit_filter());
       const F t_end = simd::select(hit.hit, hit.t, inf);
       if constexpr (is_ao) {
-        composite_volumes<Arch>(*world_, params_, ray, live, t_end, color, transmittance);  // unlit, as OSPRay's ao
+        composite_volumes<Arch>(*world_, params_, volume_overlap_, ray, live, t_end, color,
+                                transmittance);  // unlit, as OSPRay's ao
       } else {
-        composite_volumes<Arch>(*world_, params_, ray, live, t_end, color, transmittance,
+        composite_volumes<Arch>(*world_, params_, volume_overlap_, ray, live, t_end, color, transmittance,
                                 [&](const Vec3<F>& p, const Vec3<F>& n, const Vec3<F>& c, const M& lanes) {
                                   return lit_volume_sample(p, n, c, lanes, rng);
                                 });
@@ -443,6 +444,7 @@ private:
 
   const WorldT* world_;
   Params params_;
+  VolumeOverlap volume_overlap_;
   std::vector<ObjMaterial> surfaces_;
   std::vector<bool> luminous_;
   std::vector<bool> textured_;        ///< per material: has maps
