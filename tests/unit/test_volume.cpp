@@ -569,3 +569,31 @@ TEST_CASE("overlapping volumes interleave their samples in depth", "[volume][ren
     }
   }
 }
+
+TEST_CASE("scivis shadows pass through volumes, attenuated by their transmittance", "[volume][render]") {
+  // A black cube of σ = 1 between the camera and the plane z = 2, lit by a distant light
+  // of irradiance π from the camera's side: the plane (kd 0.8, so 0.8/π per unit
+  // irradiance) is seen through the cube (e⁻¹) and lit through it (e⁻¹ again) with
+  // shadows, and only seen through it without.
+  auto voxels = std::make_shared<std::vector<float>>(8, 1.f);
+  const auto volume = std::make_shared<StructuredRegular<float>>(LinearLayout<float>(voxels->data(), {2, 2, 2}, voxels),
+                                                                 StructuredRegular<float>::Grid{});
+  accel::Device device;
+  shim::EngineWorld world(device);
+  world.add_volume(VolumetricModel<StructuredRegular<float>>(volume, TransferFunction({{0, 0, 0}}, {1.f}, {0.f, 1.f})));
+  world.add(Planes({{0.f, 0.f, 1.f, -2.f}}));
+  DistantLight light;
+  light.direction = {0.f, 0.f, 1.f};
+  light.intensity = std::numbers::pi_v<float>;
+  SciVisParams params;
+  params.lights = {light};
+  for (const bool shadows : {false, true}) {
+    params.shadows = shadows;
+    const float expected = 0.8f * std::exp(shadows ? -2.f : -1.f);
+    for (auto isa : supported_isas()) {
+      INFO(simd::isa_name(isa) << (shadows ? " with shadows" : ""));
+      const FrameBuffer fb = render_volume(isa, world, params);
+      for (const int pixel : inner_pixels()) REQUIRE(fb.color32f()[4 * pixel] == Approx(expected).epsilon(1e-4));
+    }
+  }
+}

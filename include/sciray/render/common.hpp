@@ -233,6 +233,19 @@ VolumeOverlap volume_overlap(const WorldT& world, const RendererParams& params) 
   return out;
 }
 
+/// How volumes of `world` are integrated under the renderer's parameters, at
+/// `rate_scale` times its sampling rate (OSPRay's shadow and AO rays sample coarser).
+template <class WorldT>
+VolumeIntegration volume_integration(const WorldT& world, const RendererParams& params, float rate_scale = 1.f) {
+  VolumeIntegration how;
+  how.sampling_rate = params.volume_sampling_rate * rate_scale;
+  how.empty_space_skipping = params.empty_space_skipping;
+  if constexpr (requires { world.clipping(); }) how.clipping = world.clipping();
+  how.preintegration = params.volume_preintegration;
+  how.adaptive_sampling = params.volume_adaptive_sampling;
+  return how;
+}
+
 /// Volumes of `world` integrated along `ray` up to `t_end`, composited front to back into
 /// `color` under `transmittance` (both updated). `shade` lights gradient-shaded samples
 /// (VolumetricModel::integrate); without it no sample is lit. Volumes that overlap
@@ -240,19 +253,13 @@ VolumeOverlap volume_overlap(const WorldT& world, const RendererParams& params) 
 /// slab in turn, so that their samples interleave in depth as OSPRay's do (one after the
 /// other, a volume behind another would show in front of it).
 template <class Arch, class WorldT, class Shade = std::nullptr_t>
-void composite_volumes(const WorldT& world, const RendererParams& params, const VolumeOverlap& overlap,
+void composite_volumes(const WorldT& world, const VolumeIntegration& how, const VolumeOverlap& overlap,
                        const Ray<simd::Float<Arch>>& ray, const simd::Mask<Arch>& active,
                        const simd::Float<Arch>& t_end, Vec3<simd::Float<Arch>>& color,
                        Vec3<simd::Float<Arch>>& transmittance, const Shade& shade = nullptr) {
   using Fl = simd::Float<Arch>;
   if constexpr (requires { world.volume_count(); }) {
     if (!world.volume_count()) return;
-    VolumeIntegration how;
-    how.sampling_rate = params.volume_sampling_rate;
-    how.empty_space_skipping = params.empty_space_skipping;
-    how.clipping = world.clipping();
-    how.preintegration = params.volume_preintegration;
-    how.adaptive_sampling = params.volume_adaptive_sampling;
     const auto composite = [&](const Ray<Fl>& segment, const simd::Mask<Arch>& lanes, const Fl& end) {
       world.for_each_volume([&](const auto& model) {
         const VolumeSample<Arch> v = model.template integrate<Arch>(segment, lanes, end, how, shade);

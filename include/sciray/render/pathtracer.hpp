@@ -260,7 +260,8 @@ private:
   /// The camera ray's volume opacity in front of `t_end`, integrated as scivis does.
   void camera_volume_alpha(Path* path, const Ray<F>& ray, const M& live, const F& t_end) const {
     Vec3<F> color(splat(0.f)), transmittance(splat(1.f));
-    detail::composite_volumes<Arch>(*world_, params_, volume_overlap_, ray, live, t_end, color, transmittance);
+    detail::composite_volumes<Arch>(*world_, detail::volume_integration(*world_, params_), volume_overlap_, ray, live,
+                                    t_end, color, transmittance);
     for (int i = 0; i < W; ++i)
       path[i].volume_alpha = 1.f - (simd::lane(transmittance.x, i) + simd::lane(transmittance.y, i) +
                                     simd::lane(transmittance.z, i)) / 3.f;

@@ -79,7 +79,12 @@ public:
   static constexpr bool is_ao = std::is_same_v<Params, AOParams>;
 
   LocalRenderer(const WorldT& world, const Params& params)
-      : world_(&world), params_(params), volume_overlap_(volume_overlap(world, params)) {
+      : world_(&world),
+        params_(params),
+        volume_overlap_(volume_overlap(world, params)),
+        camera_volumes_(volume_integration(world, params)),
+        light_volumes_(volume_integration(world, params, 0.25f)),
+        ao_volumes_(volume_integration(world, params, 0.1f)) {
     validate(params_, world.materials_needed(), is_ao ? "ao" : "scivis");
     if (params_.ao_samples < 0) throw Error(std::string(is_ao ? "ao" : "scivis") + " renderer: parameter 'aoSamples' must not be negative");
     if (!(params_.ao_distance > 0.f)) throw Error(std::string(is_ao ? "ao" : "scivis") + " renderer: parameter 'aoDistance' must be positive");
@@ -137,10 +142,10 @@ public:
       const auto hit = accel::intersect<Arch>(world_->scene(), ray, live, depth == 0, world_->hit_filter());
       const F t_end = simd::select(hit.hit, hit.t, inf);
       if constexpr (is_ao) {
-        composite_volumes<Arch>(*world_, params_, volume_overlap_, ray, live, t_end, color,
+        composite_volumes<Arch>(*world_, camera_volumes_, volume_overlap_, ray, live, t_end, color,
                                 transmittance);  // unlit, as OSPRay's ao
       } else {
-        composite_volumes<Arch>(*world_, params_, volume_overlap_, ray, live, t_end, color, transmittance,
+        composite_volumes<Arch>(*world_, camera_volumes_, volume_overlap_, ray, live, t_end, color, transmittance,
                                 [&](const Vec3<F>& p, const Vec3<F>& n, const Vec3<F>& c, const M& lanes) {
                                   return lit_volume_sample(p, n, c, lanes, rng);
                                 });
@@ -314,7 +319,7 @@ private:
           response = response + glossy * pow<Arch>(simd::max(dot(n, h), F(0.f)), shininess);
         }
         Vec3<F> arriving = weight;
-        if (params_.shadows) arriving = arriving * shadow_transmittance(org, wi, dist, lit_lanes);
+        if (params_.shadows) arriving = arriving * shadow_transmittance(org, wi, dist, lit_lanes, light_volumes_);
         lit = lit + select(lit_lanes, response * arriving, Vec3<F>(splat(0.f)));
       }
     }
@@ -338,7 +343,7 @@ private:
       const M lit_lanes = lanes & (cos_theta > F(0.f));
       if (!simd::any(lit_lanes)) continue;
       Vec3<F> arriving = weight;
-      if (params_.shadows) arriving = arriving * shadow_transmittance(p, wi, dist, lit_lanes);
+      if (params_.shadows) arriving = arriving * shadow_transmittance(p, wi, dist, lit_lanes, light_volumes_);
       lit = lit + select(lit_lanes, diffuse * cos_theta * arriving, Vec3<F>(splat(0.f)));
     }
     return lit;
@@ -391,20 +396,36 @@ private:
         d[0][i] = w.x, d[1][i] = w.y, d[2][i] = w.z;
       }
       const Vec3<F> dir{simd::load<Arch>(d[0]), simd::load<Arch>(d[1]), simd::load<Arch>(d[2])};
-      const Vec3<F> through = shadow_transmittance(org, dir, F(params_.ao_distance), lanes);
+      const Vec3<F> through = shadow_transmittance(org, dir, F(params_.ao_distance), lanes, ao_volumes_);
       visible = visible + (through.x + through.y + through.z) * F(1.f / 3.f);
     }
     return visible * F(1.f / static_cast<float>(params_.ao_samples));
   }
 
   /// What reaches `org` from `dist` away along `dir`: 0 where something opaque is in the
-  /// way, the product of the transparent surfaces' filters otherwise.
-  Vec3<F> shadow_transmittance(const Vec3<F>& org, const Vec3<F>& dir, const F& dist, const M& lanes) const {
+  /// way, otherwise the product of the transparent surfaces' filters and the volumes'
+  /// transmittance (integrated as `volumes` says), as OSPRay's scivis shadows.
+  Vec3<F> shadow_transmittance(const Vec3<F>& org, const Vec3<F>& dir, const F& dist, const M& lanes,
+                               const VolumeIntegration& volumes) const {
     Ray<F> ray;
     ray.org = org;
     ray.dir = dir;
     ray.tnear = F(0.f);
     ray.tfar = dist * F(1.f - 1e-5f);
+    Vec3<F> through = surface_transmittance(ray, lanes);
+    const M lit = lanes & (simd::max(simd::max(through.x, through.y), through.z) > F(0.f));
+    if constexpr (requires { world_->volume_count(); })
+      if (world_->volume_count() && simd::any(lit)) {
+        Vec3<F> unused(splat(0.f)), volume_through(splat(1.f));
+        composite_volumes<Arch>(*world_, volumes, volume_overlap_, ray, lit,
+                                F(std::numeric_limits<float>::infinity()), unused, volume_through);
+        through = through * volume_through;
+      }
+    return through;
+  }
+
+  /// The surfaces' part of shadow_transmittance along `ray`.
+  Vec3<F> surface_transmittance(Ray<F> ray, const M& lanes) const {
     if (!any_transparent_) {
       const M blocked = accel::occluded<Arch>(world_->scene(), ray, lanes, false, world_->hit_filter());
       return select(blocked, Vec3<F>(splat(0.f)), Vec3<F>(splat(1.f)));
@@ -445,6 +466,9 @@ private:
   const WorldT* world_;
   Params params_;
   VolumeOverlap volume_overlap_;
+  /// Volumes along camera rays, and along shadow and AO rays (which, as OSPRay's, sample
+  /// them at a quarter and a tenth of the rate).
+  VolumeIntegration camera_volumes_, light_volumes_, ao_volumes_;
   std::vector<ObjMaterial> surfaces_;
   std::vector<bool> luminous_;
   std::vector<bool> textured_;        ///< per material: has maps
