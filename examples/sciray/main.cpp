@@ -6,7 +6,7 @@
 //                 [-o out.png|out.pfm] [--depth depth.pfm] [--json]
 //                 [--style ball-and-stick|space-filling] [--sphere-intersector sciray|embree]
 //                 [--clip-plane a,b,c,d]... [--clip-sphere x,y,z,r]...
-//                 [--tf tf.json] [--layout linear|bricked] [--density D] [--anisotropy G] [--sampling-rate R] [--gradient-shading[=S]]
+//                 [--tf tf.json] [--layout linear|bricked] [--density D] [--anisotropy G] [--sampling-rate R] [--gradient-shading S]
 //                 [--iso V]... [--slice a,b,c,d]... [--preintegration] [--adaptive-sampling]
 //                 [--no-empty-space-skipping]
 //                 [--renderer scivis|ao|pathtracer] [--spp N] [--shadows] [--ao-samples N] [--ao-distance D]
@@ -427,9 +427,9 @@ int main(int argc, char** argv) {
   render_cmd->add_option("--iso", opt.volume.isovalues, "volumes: render the isosurface of this value (repeatable)");
   render_cmd->add_option("--slice", opt.slices, "volumes: a,b,c,d: the plane a*x+b*y+c*z+d=0 coloured by the volume "
                                                 "through the transfer function (repeatable)");
-  render_cmd->add_flag("--gradient-shading{1}", opt.volume.gradient_shading_scale,
-                       "volumes, scivis: light the samples with the gradient as normal, by this much in [0, 1] "
-                       "(OSPRay's gradientShadingScale; 1 if no value is given)");
+  render_cmd->add_option("--gradient-shading", opt.volume.gradient_shading_scale,
+                         "volumes, scivis: how much each sample is lit with the gradient as its normal, in [0, 1] "
+                         "(OSPRay's gradientShadingScale; 1: fully)");
   render_cmd->add_flag("--preintegration", opt.preintegration,
                        "volumes: integrate the transfer function over each step (accurate at coarse steps)");
   render_cmd->add_flag("--adaptive-sampling", opt.adaptive_sampling,
