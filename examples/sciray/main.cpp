@@ -6,7 +6,7 @@
 //                 [-o out.png|out.pfm] [--depth depth.pfm] [--json]
 //                 [--style ball-and-stick|space-filling] [--sphere-intersector sciray|embree]
 //                 [--clip-plane a,b,c,d]... [--clip-sphere x,y,z,r]...
-//                 [--tf tf.json] [--layout linear|bricked] [--density D] [--anisotropy G] [--sampling-rate R] [--gradient-shading]
+//                 [--tf tf.json] [--layout linear|bricked] [--density D] [--anisotropy G] [--sampling-rate R] [--gradient-shading S]
 //                 [--iso V]... [--slice a,b,c,d]... [--preintegration] [--adaptive-sampling]
 //                 [--no-empty-space-skipping]
 //                 [--renderer scivis|ao|pathtracer] [--spp N] [--shadows] [--ao-samples N] [--ao-distance D]
@@ -102,7 +102,6 @@ struct RenderOptions {
   std::string sphere_intersector = "sciray";
   sciray_tool::VolumeOptions volume;
   float sampling_rate = 1.f;
-  bool gradient_shading = false;
   bool no_empty_space_skipping = false;
   bool preintegration = false;
   bool adaptive_sampling = false;
@@ -153,7 +152,6 @@ sciray::shim::RendererConfig renderer_config(const RenderOptions& opt, std::vect
     }
     params.max_path_length = opt.max_path_length;
     params.volume_sampling_rate = opt.sampling_rate;
-    params.volume_gradient_shading = opt.gradient_shading;
     params.empty_space_skipping = !opt.no_empty_space_skipping;
     params.volume_preintegration = opt.preintegration;
     params.volume_adaptive_sampling = opt.adaptive_sampling;
@@ -433,7 +431,9 @@ int main(int argc, char** argv) {
   render_cmd->add_option("--iso", opt.volume.isovalues, "volumes: render the isosurface of this value (repeatable)");
   render_cmd->add_option("--slice", opt.slices, "volumes: a,b,c,d: the plane a*x+b*y+c*z+d=0 coloured by the volume "
                                                 "through the transfer function (repeatable)");
-  render_cmd->add_flag("--gradient-shading", opt.gradient_shading, "volumes: shade by the gradient");
+  render_cmd->add_option("--gradient-shading", opt.volume.gradient_shading_scale,
+                         "volumes, scivis: how much each sample is lit with the gradient as its normal, in [0, 1] "
+                         "(OSPRay's gradientShadingScale; 1: fully)");
   render_cmd->add_flag("--preintegration", opt.preintegration,
                        "volumes: integrate the transfer function over each step (accurate at coarse steps)");
   render_cmd->add_flag("--adaptive-sampling", opt.adaptive_sampling,

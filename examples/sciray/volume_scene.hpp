@@ -22,6 +22,7 @@ struct VolumeOptions {
   std::string layout = "linear";  ///< or "bricked"
   float density = 0.f;            ///< densityScale; 0: a default from the volume's size
   float anisotropy = 0.f;         ///< the path tracer's Henyey–Greenstein g
+  float gradient_shading_scale = 0.f;  ///< scivis: how much the gradient-lit colour replaces the sample's
   std::vector<float> isovalues;   ///< isosurfaces instead of volume rendering
   std::vector<std::array<float, 4>> slices;  ///< planes a,b,c,d coloured by the volume, instead
 };
@@ -103,7 +104,9 @@ inline VolumeInfo add_volume(sciray::shim::EngineWorld& world, const sciray::io:
       }
       // By default the densest value absorbs 1 − e⁻⁴ over the volume's diagonal.
       const float density = opt.density > 0.f ? opt.density : 4.f / length(volume->bounds().size());
-      world.add_volume(VolumetricModel(volume, std::move(tf), density, opt.anisotropy));
+      VolumetricModel model(volume, std::move(tf), density, opt.anisotropy);
+      model.set_gradient_shading_scale(opt.gradient_shading_scale);
+      world.add_volume(std::move(model));
     };
     if (opt.layout == "bricked")
       add_model(std::make_shared<const StructuredRegular<Voxel, BrickedLayout>>(

@@ -2654,13 +2654,18 @@ TEST_CASE("volume: bad input is named through the error callback", "[c_api][volu
   ospCommit(model);
   api.expect_error("volumetric model: parameter 'anisotropy' must be in [-1, 1], got 1.500000");
   ospSetFloat(model, "anisotropy", -0.3f);
-  ospSetFloat(model, "gradientShadingScale", 1.f);  // OSPRay's, not used yet
+  ospSetFloat(model, "gradientShadingScale", 1.5f);
+  ospCommit(model);
+  api.expect_error("volumetric model: parameter 'gradientShadingScale' must be in [0, 1], got 1.500000");
+  ospSetFloat(model, "gradientShadingScale", NAN);
+  ospCommit(model);
+  api.expect_error("volumetric model: parameter 'gradientShadingScale' must be in [0, 1]");
+  ospSetFloat(model, "gradientShadingScale", 1.f);
   ospCommit(model);
   CHECK(api.messages.errors.empty());
   unused = false;
-  for (const auto& s : api.messages.status)
-    unused |= s.find("volumetric model: parameter 'gradientShadingScale' is not used") != std::string::npos;
-  CHECK(unused);
+  for (const auto& s : api.messages.status) unused |= s.find("'gradientShadingScale' is not used") != std::string::npos;
+  CHECK(!unused);
   OSPVolume uncommitted_volume = ospNewVolume("structuredRegular");
   OSPVolumetricModel other = ospNewVolumetricModel(uncommitted_volume);
   ospSetObject(other, "transferFunction", tf);
@@ -2870,13 +2875,28 @@ TEST_CASE("isosurface: bad input is named through the error callback", "[c_api][
   ospCommit(g);
   CHECK(api.messages.errors.empty());
 
-  // Colours: one per isovalue cannot show yet; one for all and a material's can.
+  // Colours: one per isovalue (the isosurface's primitives; fewer is an error), or one
+  // for all; here the material's.
   OSPGeometricModel m = ospNewGeometricModel(g);
   const float red[6] = {1.f, 0.f, 0.f, 1.f, 0.f, 0.f};
   set_array(m, "color", red, OSP_VEC3F, 2);
   ospCommit(m);
-  api.expect_error("ospCommit: geometric model: parameter 'color' has 2 colours; isosurface geometry takes one colour "
-                   "for all its primitives");
+  CHECK(api.messages.errors.empty());
+  const float three_isovalues[3] = {1.f, 2.f, 3.f};
+  set_array(g, "isovalue", three_isovalues, OSP_FLOAT, 3);
+  ospCommit(g);
+  ospCommit(m);
+  api.expect_error("geometric model: parameter 'color' has 2 elements but there are 3 primitives");
+  const float blue[3] = {0.f, 0.f, 1.f};
+  set_array(m, "color", blue, OSP_VEC3F, 1);
+  ospCommit(m);
+  CHECK(api.messages.errors.empty());
+  const float blue_alpha[8] = {0.f, 0.f, 1.f, 0.5f};
+  set_array(m, "color", blue_alpha, OSP_VEC4F, 1);  // one translucent colour: spread over the isovalues
+  ospCommit(m);
+  CHECK(api.messages.errors.empty());
+  ospSetFloat(g, "isovalue", 2.f);
+  ospCommit(g);
   ospRemoveParam(m, "color");
   OSPMaterial material = ospNewMaterial("obj");
   ospSetVec3f(material, "kd", 1.f, 0.f, 0.f);
@@ -3053,6 +3073,23 @@ TEST_CASE("slice: a volume texture as map_kd colours a plane by the volume's tra
     return std::array<float, 3>{1.f - s, 1.f - s, s};
   });
 
+  // OSPRay 3's form, the volume and a transfer function of the texture's own, shows the
+  // same; recommits of either reach it.
+  ospSetObject(scene.texture, "volume", scene.volume);
+  ospSetObject(scene.texture, "transferFunction", scene.tf);
+  ospCommit(scene.texture);
+  scene.check([](float x, float y) {
+    const float s = (x + 2 * y + 3.f) / 6.f;
+    return std::array<float, 3>{1.f - s, 1.f - s, s};
+  });
+  const float red_to_green[6] = {1.f, 0.f, 0.f, 0.f, 1.f, 0.f};
+  set_array(scene.tf, "color", red_to_green, OSP_VEC3F, 2);
+  ospCommit(scene.tf);
+  scene.check([](float x, float y) {
+    const float s = (x + 2 * y + 3.f) / 6.f;
+    return std::array<float, 3>{1.f - s, s, 0.f};
+  });
+
   // Picks land on the plane and report the slice's model.
   Picker pick;
   check_pick(pick, scene.world, {0.3f, 0.7f, -5.f}, {0.f, 0.f, 1.f}, scene.instance, scene.model, {0.3f, 0.7f, 0.5f});
@@ -3071,11 +3108,23 @@ TEST_CASE("slice: volume textures' bad input is named through the error callback
 
   OSPTexture texture = ospNewTexture("volume");
   ospCommit(texture);
-  api.expect_error("ospCommit: volume texture: required parameter 'volume' (OSPVolumetricModel) is missing");
+  api.expect_error("ospCommit: volume texture: required parameter 'volume' (OSPVolume, with 'transferFunction') is "
+                   "missing");
   ospSetObject(texture, "volume", scene.volume);
   ospCommit(texture);
-  api.expect_error("volume texture: parameter 'volume' must be OSPVolumetricModel, got OSPVolume (a volume texture takes "
-               "the volumetric model, whose transfer function gives the colours)");
+  api.expect_error("volume texture: required parameter 'transferFunction' (OSPTransferFunction) is missing");
+  ospSetObject(texture, "transferFunction", scene.volume);
+  ospCommit(texture);
+  api.expect_error("volume texture: parameter 'transferFunction' must be OSPTransferFunction, got OSPVolume");
+  ospSetObject(texture, "volume", scene.tf);
+  ospCommit(texture);
+  api.expect_error("volume texture: parameter 'volume' must be OSPVolume (OSPRay 3, with 'transferFunction') or "
+                   "OSPVolumetricModel (OSPRay 2), got OSPTransferFunction");
+  ospSetObject(texture, "volume", scene.volume_model);
+  ospCommit(texture);
+  api.expect_error("volume texture: parameter 'transferFunction' is for an OSPVolume 'volume'; a volumetric model "
+                   "brings its own");
+  ospRemoveParam(texture, "transferFunction");
   OSPVolumetricModel uncommitted_model = ospNewVolumetricModel(scene.volume);
   ospSetObject(texture, "volume", uncommitted_model);
   ospCommit(texture);

@@ -229,6 +229,49 @@ TEST_CASE("an hdri light of a texture2d is the background scivis shows", "[c_api
   ospRelease(map);
 }
 
+TEST_CASE("map_maxDepth cuts camera rays at the depth of the pixel, for every renderer", "[c_api][renderers]") {
+  ApiFixture api;
+  FloorScene scene(nullptr);  // the floor is 5 below the camera
+  OSPLight ambient = ospNewLight("ambient");
+  ospCommit(ambient);
+  scene.set_lights({ambient});
+  // An R32F 2x1 map: depth 4 on the left half of the image (the floor is cut), 6 on the right.
+  const float depths[2] = {4.f, 6.f};
+  OSPTexture max_depth = ospNewTexture("texture2d");
+  ospSetInt(max_depth, "format", OSP_TEXTURE_R32F);
+  ospSetInt(max_depth, "filter", OSP_TEXTURE_FILTER_NEAREST);
+  OSPData data = ospNewSharedData2D(depths, OSP_FLOAT, 2, 1);
+  ospSetObject(max_depth, "data", data);
+  ospRelease(data);
+  ospCommit(max_depth);
+  for (const char* type : {"scivis", "ao", "pathtracer"}) {
+    INFO(type);
+    OSPRenderer renderer = ospNewRenderer(type);
+    ospSetObject(renderer, "map_maxDepth", max_depth);
+    ospCommit(renderer);
+    OSPFrameBuffer fb = ospNewFrameBuffer(8, 8, OSP_FB_RGBA32F, OSP_FB_COLOR);
+    ospRenderFrameBlocking(fb, renderer, scene.camera, scene.world);
+    const auto* rgba = static_cast<const float*>(ospMapFrameBuffer(fb, OSP_FB_COLOR));
+    for (int y = 0; y < 8; ++y)
+      for (int x = 0; x < 8; ++x) REQUIRE(rgba[4 * (8 * y + x) + 3] == (x < 4 ? 0.f : 1.f));  // transparent background
+    ospUnmapFrameBuffer(rgba, fb);
+    ospRelease(fb);
+    ospRelease(renderer);
+  }
+  CHECK(api.messages.errors == std::vector<std::string>{});
+  OSPTexture uncommitted = ospNewTexture("texture2d");
+  OSPRenderer scivis = ospNewRenderer("scivis");
+  ospSetObject(scivis, "map_maxDepth", uncommitted);
+  ospCommit(scivis);
+  api.expect_error("scivis renderer: parameter 'map_maxDepth' must be a committed texture2d");
+  ospSetObject(scivis, "map_maxDepth", ambient);
+  ospCommit(scivis);
+  api.expect_error("scivis renderer: parameter 'map_maxDepth' must be OSPTexture, got OSPLight");
+  ospRelease(scivis);
+  ospRelease(uncommitted);
+  ospRelease(max_depth);
+}
+
 TEST_CASE("bad lights, materials, textures and renderer parameters are named", "[c_api][renderers][errors]") {
   ApiFixture api;
   CHECK(ospNewLight("photometric") == nullptr);

@@ -105,3 +105,39 @@ TEST_CASE("several isovalues: the nearest surface wins", "[isosurface]") {
   CHECK_THROWS_WITH(Isosurface(volume, {}), Catch::Contains("'isovalue' is missing"));
   CHECK_THROWS_WITH(Isosurface(volume, {std::nanf("")}), Catch::Contains("'isovalue' 0 is not finite"));
 }
+
+TEST_CASE("a colour per isovalue shows on that isovalue's shell", "[isosurface][render]") {
+  // Nested spheres of radius 3 and 6 about the centre of a 21³ distance field, seen along
+  // +z through their centre under a white ambient light of 1 (no material): the pixels
+  // show the colour of the shell they hit, exactly.
+  const auto volume = volume_of({21, 21, 21}, VolumeGrid{}, [](auto x, auto y, auto z) {
+    return std::sqrt(static_cast<float>((x - 10) * (x - 10) + (y - 10) * (y - 10) + (z - 10) * (z - 10)));
+  });
+  const Vec3f red{1.f, 0.f, 0.f}, blue{0.f, 0.f, 1.f};
+  const auto centre_colour = [&](std::vector<float> isovalues, std::vector<float> rgba) {
+    accel::Device device;
+    shim::EngineWorld world(device);
+    Isosurface shells(volume, std::move(isovalues));
+    shells.set_colors(std::move(rgba));
+    world.add(std::move(shells));
+    const auto& kernels = shim::kernels(shim::select_isa());
+    kernels.commit(world);
+    OrthographicCamera camera;
+    camera.position = {10.f, 10.f, -5.f};
+    camera.direction = {0.f, 0.f, 1.f};
+    camera.height = 1.f;
+    SciVisParams params;
+    params.lights = {AmbientLight{}};
+    FrameBuffer fb(4, 4, ColorFormat::rgba32f);
+    kernels.render_scivis(world, params, camera, fb, nullptr);
+    const float* p = fb.color32f().data() + 4 * (4 * 2 + 2);
+    return Vec3f{p[0], p[1], p[2]};
+  };
+  // The outer shell (isovalue 6) is hit first, whichever index it has.
+  CHECK(centre_colour({3.f, 6.f}, {1, 0, 0, 1, 0, 0, 1, 1}) == blue);
+  CHECK(centre_colour({6.f, 3.f}, {1, 0, 0, 1, 0, 0, 1, 1}) == red);
+  // A transparent outer shell lets the inner one's colour through.
+  CHECK(centre_colour({3.f, 6.f}, {1, 0, 0, 1, 0, 0, 1, 0}) == red);
+  CHECK_THROWS_WITH(Isosurface(volume, {3.f, 6.f, 9.f}).set_colors({1, 0, 0, 1, 0, 0, 1, 1}),
+                    Catch::Contains("2 colours for 3 isovalues"));
+}

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
+#include <numbers>
 #include <vector>
 
 #include "sciray/io/frame_io.hpp"
@@ -416,4 +417,183 @@ TEST_CASE("the ray marcher converges to a double-precision reference integral on
   INFO("worst error at 1 sample a cell " << worst_coarse << ", at 8: " << worst_fine);
   CHECK(worst_fine < 1e-3);
   CHECK(worst_fine < worst_coarse);
+}
+
+namespace {
+
+/// The pixels of render_volume's 16x16 image at least two pixels inside the unit cube's
+/// footprint, whose rays cross the whole cube wherever in the pixel they fall.
+std::vector<int> inner_pixels() {
+  std::vector<int> pixels;
+  for (int y = 2; y < 14; ++y)
+    for (int x = 2; x < 14; ++x) pixels.push_back(16 * y + x);
+  return pixels;
+}
+
+/// The unit cube whose value grows linearly with z from 0 to 1 (5x5x9 voxels): its
+/// gradient points along +z everywhere, also where central differences are cut at a face.
+std::shared_ptr<const StructuredRegular<float>> z_ramp() {
+  const VolumeDims d{5, 5, 9};
+  auto voxels = std::make_shared<std::vector<float>>();
+  for (std::int64_t z = 0; z < d[2]; ++z)
+    for (int k = 0; k < 25; ++k) voxels->push_back(static_cast<float>(z) / 8.f);
+  return std::make_shared<StructuredRegular<float>>(LinearLayout<float>(voxels->data(), d, voxels),
+                                                    StructuredRegular<float>::Grid{{0, 0, 0}, {0.25f, 0.25f, 0.125f}});
+}
+
+}  // namespace
+
+TEST_CASE("gradient shading lerps each sample from its colour to its colour lit on the gradient", "[volume][render]") {
+  // Opacity = value on the z ramp: every ray along +z integrates to A = 1 − exp(−D/2)
+  // (D the density scale), and a constant colour c shows as c·A. The normal is the
+  // negated gradient, −z, facing the camera. Lit by an ambient light a and a distant
+  // light of irradiance E arriving at cos θ = 0.6 to it (a surface without material:
+  // c/π per unit irradiance), a fully shaded sample is c·(a + 0.6·E/π).
+  const Vec3f c{0.2f, 0.6f, 1.f};
+  const float a = 0.25f, irradiance = 1.5f, density = 3.f;
+  const float opacity = 1.f - std::exp(-density / 2);
+  AmbientLight ambient;
+  ambient.intensity = a;
+  DistantLight front;
+  front.direction = {0.f, -0.8f, 0.6f};  // travels away from the camera, towards +z
+  front.intensity = irradiance;
+  DistantLight behind = front;
+  behind.direction = {0.f, 0.f, -1.f};  // towards the camera: lights the far side only
+  const auto check = [&](float scale, const std::vector<Light>& lights, float expected_light) {
+    accel::Device device;
+    shim::EngineWorld world(device);
+    VolumetricModel<StructuredRegular<float>> model(z_ramp(), TransferFunction({c}, {0.f, 1.f}, {0.f, 1.f}), density);
+    model.set_gradient_shading_scale(scale);
+    world.add_volume(std::move(model));
+    SciVisParams params;
+    params.lights = lights;
+    params.volume_sampling_rate = 2.f;
+    const float light = 1.f + scale * (expected_light - 1.f);  // the lerp of the colour
+    for (auto isa : supported_isas()) {
+      INFO(simd::isa_name(isa) << " at scale " << scale);
+      const FrameBuffer fb = render_volume(isa, world, params);
+      for (const int pixel : inner_pixels()) {
+        REQUIRE(fb.color32f()[4 * pixel + 3] == Approx(opacity).epsilon(1e-5));  // shading keeps the opacity
+        for (int k = 0; k < 3; ++k) REQUIRE(fb.color32f()[4 * pixel + k] == Approx(c[k] * light * opacity).epsilon(1e-4));
+      }
+    }
+  };
+  const float lit = a + 0.6f * irradiance / std::numbers::pi_v<float>;
+  check(0.f, {ambient, front}, lit);        // exactly the unshaded colour
+  check(1.f, {ambient, front}, lit);        // exactly the lit colour
+  check(0.5f, {ambient, front}, lit);       // half way
+  check(1.f, {ambient, behind}, a);         // one-sided: light from behind the normal is not seen
+  VolumetricModel<StructuredRegular<float>> model(z_ramp(), TransferFunction({c}, {1.f}, {0.f, 1.f}));
+  CHECK_THROWS_WITH(model.set_gradient_shading_scale(1.5f), Catch::Contains("'gradientShadingScale' must be in [0, 1]"));
+  CHECK_THROWS_WITH(model.set_gradient_shading_scale(std::nanf("")), Catch::Contains("must be in [0, 1]"));
+}
+
+TEST_CASE("map_maxDepth ends camera rays: volumes are integrated and surfaces seen only up to it", "[volume][render]") {
+  // The camera is at z = −5 looking along +z: a depth of 5.3 reaches 0.3 into the unit
+  // cube. Left half of the image: depth 5.3; right half: 5.8.
+  const auto depths = std::make_shared<const Texture2D>(2, 1, std::vector<Vec3f>{splat(5.3f), splat(5.8f)}, true);
+  auto voxels = std::make_shared<std::vector<float>>(8, 1.f);
+  const auto volume = std::make_shared<StructuredRegular<float>>(LinearLayout<float>(voxels->data(), {2, 2, 2}, voxels),
+                                                                 StructuredRegular<float>::Grid{});
+  SECTION("a constant volume of σ = 2 absorbs 1 − exp(−2·0.3) on the left, 1 − exp(−2·0.8) on the right") {
+    accel::Device device;
+    shim::EngineWorld world(device);
+    world.add_volume(VolumetricModel<StructuredRegular<float>>(volume, TransferFunction({{1, 1, 1}}, {2.f}, {0.f, 2.f})));
+    SciVisParams params;
+    params.max_depth = depths;
+    for (auto isa : supported_isas()) {
+      INFO(simd::isa_name(isa));
+      const FrameBuffer fb = render_volume(isa, world, params);
+      for (const int pixel : inner_pixels()) {
+        const float reach = pixel % 16 < 8 ? 0.3f : 0.8f;
+        REQUIRE(fb.color32f()[4 * pixel + 3] == Approx(1.f - std::exp(-2.f * reach)).epsilon(1e-4));
+      }
+    }
+  }
+  SECTION("a plane at z = 0.5 (5.5 away) is hidden on the left and seen on the right, by every renderer") {
+    accel::Device device;
+    shim::EngineWorld world(device);
+    world.add(Planes({{0.f, 0.f, 1.f, -0.5f}}, {}));
+    SciVisParams scivis;
+    scivis.lights = {AmbientLight{}};
+    scivis.max_depth = depths;
+    AOParams ao;
+    ao.max_depth = depths;
+    PathTracerParams pathtracer;
+    pathtracer.lights = {AmbientLight{}};
+    pathtracer.max_depth = depths;
+    for (const shim::RendererConfig& renderer : std::vector<shim::RendererConfig>{scivis, ao, pathtracer}) {
+      INFO("renderer " << renderer.index());
+      const auto& kernels = shim::kernels(shim::select_isa());
+      kernels.commit(world);
+      OrthographicCamera camera;
+      camera.position = {0.5f, 0.5f, -5.f};
+      camera.direction = {0.f, 0.f, 1.f};
+      camera.height = 1.f;
+      FrameBuffer fb(16, 16, ColorFormat::rgba32f);
+      kernels.render(world, renderer, camera, fb, nullptr, FrameSettings{});
+      for (int y = 0; y < 16; ++y)
+        for (int x = 0; x < 16; ++x) {
+          // The background is transparent black; the plane is opaque.
+          REQUIRE(fb.color32f()[4 * (16 * y + x) + 3] == Approx(x < 8 ? 0.f : 1.f));
+          if (x >= 8) REQUIRE(fb.color32f()[4 * (16 * y + x)] > 0.1f);
+        }
+    }
+  }
+}
+
+TEST_CASE("overlapping volumes interleave their samples in depth", "[volume][render]") {
+  // Two constant volumes of σ = 2 filling the unit cube, red and blue. Marched together,
+  // step by step (4 a cell: n = 4 steps of h = 1/4), each step composites the red sample
+  // then the blue one, each absorbing a = 1 − exp(−2h): red = a·ΣT, blue = (1 − a)·a·ΣT
+  // over T_k = ((1 − a)²)^k. One after the other, red would be 1 − exp(−2) and cover most of the blue.
+  auto voxels = std::make_shared<std::vector<float>>(8, 1.f);
+  const auto volume = std::make_shared<StructuredRegular<float>>(LinearLayout<float>(voxels->data(), {2, 2, 2}, voxels),
+                                                                 StructuredRegular<float>::Grid{});
+  accel::Device device;
+  shim::EngineWorld world(device);
+  world.add_volume(VolumetricModel<StructuredRegular<float>>(volume, TransferFunction({{1, 0, 0}}, {2.f}, {0.f, 2.f})));
+  world.add_volume(VolumetricModel<StructuredRegular<float>>(volume, TransferFunction({{0, 0, 1}}, {2.f}, {0.f, 2.f})));
+  SciVisParams params;
+  params.volume_sampling_rate = 4.f;
+  const double a = 1 - std::exp(-2.0 / 4);
+  double sum = 0, through = 1;
+  for (int k = 0; k < 4; ++k) sum += through, through *= (1 - a) * (1 - a);
+  for (auto isa : supported_isas()) {
+    INFO(simd::isa_name(isa));
+    const FrameBuffer fb = render_volume(isa, world, params);
+    for (const int pixel : inner_pixels()) {
+      REQUIRE(fb.color32f()[4 * pixel + 0] == Approx(a * sum).epsilon(1e-4));
+      REQUIRE(fb.color32f()[4 * pixel + 2] == Approx((1 - a) * a * sum).epsilon(1e-4));
+      REQUIRE(fb.color32f()[4 * pixel + 3] == Approx(1 - through).epsilon(1e-4));
+    }
+  }
+}
+
+TEST_CASE("scivis shadows pass through volumes, attenuated by their transmittance", "[volume][render]") {
+  // A black cube of σ = 1 between the camera and the plane z = 2, lit by a distant light
+  // of irradiance π from the camera's side: the plane (kd 0.8, so 0.8/π per unit
+  // irradiance) is seen through the cube (e⁻¹) and lit through it (e⁻¹ again) with
+  // shadows, and only seen through it without.
+  auto voxels = std::make_shared<std::vector<float>>(8, 1.f);
+  const auto volume = std::make_shared<StructuredRegular<float>>(LinearLayout<float>(voxels->data(), {2, 2, 2}, voxels),
+                                                                 StructuredRegular<float>::Grid{});
+  accel::Device device;
+  shim::EngineWorld world(device);
+  world.add_volume(VolumetricModel<StructuredRegular<float>>(volume, TransferFunction({{0, 0, 0}}, {1.f}, {0.f, 1.f})));
+  world.add(Planes({{0.f, 0.f, 1.f, -2.f}}));
+  DistantLight light;
+  light.direction = {0.f, 0.f, 1.f};
+  light.intensity = std::numbers::pi_v<float>;
+  SciVisParams params;
+  params.lights = {light};
+  for (const bool shadows : {false, true}) {
+    params.shadows = shadows;
+    const float expected = 0.8f * std::exp(shadows ? -2.f : -1.f);
+    for (auto isa : supported_isas()) {
+      INFO(simd::isa_name(isa) << (shadows ? " with shadows" : ""));
+      const FrameBuffer fb = render_volume(isa, world, params);
+      for (const int pixel : inner_pixels()) REQUIRE(fb.color32f()[4 * pixel] == Approx(expected).epsilon(1e-4));
+    }
+  }
 }

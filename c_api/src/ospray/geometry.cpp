@@ -357,12 +357,12 @@ void GeometricModel::on_commit() {
       choices.clear();
     }
   }
-  // One colour is for every primitive; otherwise one per primitive, except on curves and
-  // isosurfaces, whose primitives (segments, isovalues) sciray does not colour apart.
+  // One colour is for every primitive; otherwise one per primitive (an isosurface's are
+  // its isovalues), except on curves, whose segments sciray does not colour apart.
   PaddedVector<float> face_colors;
   std::optional<std::array<float, 4>> uniform_color;
   if (const Data* color = get_data(*this, find("color"), "color", {OSP_VEC4F, OSP_VEC3F})) {
-    const bool per_primitive = !geometry->curves() && !geometry->isosurface_volume();
+    const bool per_primitive = !geometry->curves();
     const int components = color->element_type() == OSP_VEC4F ? 4 : 3;
     const float alpha = components == 4 ? read_float(color->element(0) + 12) : 1.f;
     // One translucent colour is spread over the primitives, whose colours carry alpha.

@@ -31,7 +31,7 @@ void Material::on_commit() {
     Ref<TextureObject> texture = get_object<TextureObject>(map, OSP_TEXTURE, false);
     if (!texture) return;
     if (!texture->committed()) throw Error(name() + ": parameter '" + map + "': its texture has not been committed");
-    if (texture->volume_model()) {
+    if (texture->is_volume_texture()) {
       if (map != "map_kd")
         throw Error(name() + ": parameter '" + map + "': a volume texture colours only an obj material's map_kd; "
                              "give a texture2d");
@@ -217,17 +217,38 @@ void TextureObject::commit_texture2d() {
 void TextureObject::on_commit() {
   if (subtype() == "texture2d") return commit_texture2d();
   const Param* p = find("volume");
-  if (!p || !p->object) throw Error(name() + ": required parameter 'volume' (OSPVolumetricModel) is missing");
-  if (p->object->kind() != OSP_VOLUMETRIC_MODEL)
-    throw Error(name() + ": parameter 'volume' must be OSPVolumetricModel, got " + type_name(p->object->kind()) +
-                (p->object->kind() == OSP_VOLUME
-                     ? " (a volume texture takes the volumetric model, whose transfer function gives the colours)"
-                     : ""));
-  Ref<VolumetricModelObject> model = static_cast<VolumetricModelObject*>(p->object.get());
-  if (!model->committed()) throw Error(name() + ": its volumetric model has not been committed");
+  if (!p || !p->object)
+    throw Error(name() + ": required parameter 'volume' (OSPVolume, with 'transferFunction') is missing");
+  // Read into locals: a commit that fails leaves the texture as it was.
+  Ref<VolumetricModelObject> model;
+  Ref<VolumeObject> volume;
+  Ref<TransferFunctionObject> tf;
+  if (p->object->kind() == OSP_VOLUME) {
+    volume = static_cast<VolumeObject*>(p->object.get());
+    if (!volume->committed()) throw Error(name() + ": its volume has not been committed");
+    tf = get_object<TransferFunctionObject>("transferFunction", OSP_TRANSFER_FUNCTION, true);
+    if (!tf->committed()) throw Error(name() + ": its transfer function has not been committed");
+  } else if (p->object->kind() == OSP_VOLUMETRIC_MODEL) {
+    model = static_cast<VolumetricModelObject*>(p->object.get());
+    if (!model->committed()) throw Error(name() + ": its volumetric model has not been committed");
+    if (has("transferFunction"))
+      throw Error(name() + ": parameter 'transferFunction' is for an OSPVolume 'volume'; a volumetric model "
+                           "brings its own");
+  } else {
+    throw Error(name() + ": parameter 'volume' must be OSPVolume (OSPRay 3, with 'transferFunction') or "
+                         "OSPVolumetricModel (OSPRay 2), got " + type_name(p->object->kind()));
+  }
   model_ = std::move(model);
+  volume_ = std::move(volume);
+  transfer_function_ = std::move(tf);
 }
 
-std::uint64_t TextureObject::version() const { return std::max(version_, model_ ? model_->version() : 0); }
+std::uint64_t TextureObject::version() const {
+  std::uint64_t v = version_;
+  if (model_) v = std::max(v, model_->version());
+  if (volume_) v = std::max(v, volume_->version());
+  if (transfer_function_) v = std::max(v, transfer_function_->version());
+  return v;
+}
 
 }  // namespace sciray::ospray

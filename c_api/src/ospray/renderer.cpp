@@ -22,6 +22,12 @@ void Renderer::on_commit() {
         throw Error(name() + ": parameter 'map_backplate' must be a committed texture2d");
       params.backplate = backplate->image();
     }
+    // Texels are finite and not negative (texture2d checks them): every depth is valid.
+    if (auto* max_depth = get_object<TextureObject>("map_maxDepth", OSP_TEXTURE, false)) {
+      if (!max_depth->committed() || !max_depth->image())
+        throw Error(name() + ": parameter 'map_maxDepth' must be a committed texture2d");
+      params.max_depth = max_depth->image();
+    }
     return params;
   };
   shim::RendererConfig config;

@@ -127,24 +127,32 @@ private:
   Ref<TransferFunctionObject> transfer_function_;
   float density_scale_ = 1.f;
   float anisotropy_ = 0.f;
+  float gradient_shading_scale_ = 0.f;
   std::mutex mutex_;  ///< guards the engine model, which world builds refresh
   EngineVolumetricModel model_;
   std::uint64_t model_volume_version_ = 0;  ///< the volume commit the model was built from
   std::uint64_t model_tf_version_ = 0;      ///< the transfer function commit it shows
 };
 
-/// OSPRay's `volume` texture: `volume`, a volumetric model whose transfer function
-/// colours the points of a surface by the volume's value there. As a material's `map_kd`
-/// it turns plane geometry into slices (the engine's VolumeSlice).
+/// OSPRay's `volume` texture: a transfer function colours the points of a surface by a
+/// volume's value there. OSPRay 3 gives `volume` (an OSPVolume) and `transferFunction`;
+/// OSPRay 2 gave `volume` as a volumetric model, whose transfer function it took. As a
+/// material's `map_kd` it turns plane geometry into slices (the engine's VolumeSlice).
 /// And OSPRay's `texture2d`: an image (`data`, a 2D array in `format`), used by lights
-/// (`hdri` map), renderers (`map_backplate`) and materials' maps (`map_kd`, ...).
+/// (`hdri` map), renderers (`map_backplate`, `map_maxDepth`) and materials' maps.
 class TextureObject : public Object {
 public:
   explicit TextureObject(std::string type) : Object(OSP_TEXTURE, std::move(type)) {}
-  VolumetricModelObject* volume_model() const { return model_.get(); }
+  bool is_volume_texture() const { return model_ || volume_; }
+  /// A volume texture's volume and transfer function as currently committed (through its
+  /// volumetric model in OSPRay 2's form); null for a texture2d.
+  VolumeObject* sampled_volume() const { return model_ ? model_->volume() : volume_.get(); }
+  TransferFunctionObject* transfer_function() const {
+    return model_ ? model_->transfer_function() : transfer_function_.get();
+  }
   /// The image of a texture2d (null for a volume texture).
   const std::shared_ptr<const Texture2D>& image() const { return image_; }
-  /// Also counts the model's (its volume's and transfer function's) commits.
+  /// Also counts the commits of a volume texture's volume and transfer function (or model).
   std::uint64_t version() const override;
 
 protected:
@@ -153,7 +161,9 @@ protected:
 private:
   void commit_texture2d();
 
-  Ref<VolumetricModelObject> model_;
+  Ref<VolumetricModelObject> model_;  ///< OSPRay 2's form
+  Ref<VolumeObject> volume_;          ///< OSPRay 3's form, with transfer_function_
+  Ref<TransferFunctionObject> transfer_function_;
   std::shared_ptr<const Texture2D> image_;
 };
 
@@ -307,7 +317,7 @@ private:
   Ref<Material> material_;
   std::vector<MaterialChoice> material_choices_;
   PaddedVector<float> face_colors_;
-  /// One `color` (RGBA) for all primitives; its alpha is below 1 only on curves and isosurfaces.
+  /// One `color` (RGBA) for all primitives; its alpha is below 1 only on curves.
   std::optional<std::array<float, 4>> uniform_color_;
   bool invert_normals_ = false;
 };

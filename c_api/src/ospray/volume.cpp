@@ -61,17 +61,21 @@ EngineVolume make_structured_regular(const Object& owner, const Data& data, cons
                                                           filter);
 }
 
-/// The engine model of `volume` with `tf`, `density_scale` and `anisotropy` (builds its
-/// macrocells).
+/// The engine model of `volume` with `tf`, `density_scale`, `anisotropy` and
+/// `gradient_shading_scale` (builds its macrocells).
 EngineVolumetricModel make_volumetric_model(const EngineVolume& volume, const TransferFunction& tf,
-                                            float density_scale, float anisotropy = 0.f) {
+                                            float density_scale, float anisotropy = 0.f,
+                                            float gradient_shading_scale = 0.f) {
   return std::visit(
       [&](const auto& v) -> EngineVolumetricModel {
         using T = std::decay_t<decltype(v)>;
-        if constexpr (std::is_same_v<T, std::monostate>)
+        if constexpr (std::is_same_v<T, std::monostate>) {
           throw Error("volumetric model: its volume has not been committed");
-        else
-          return VolumetricModel<std::remove_const_t<typename T::element_type>>(v, tf, density_scale, anisotropy);
+        } else {
+          VolumetricModel<std::remove_const_t<typename T::element_type>> model(v, tf, density_scale, anisotropy);
+          model.set_gradient_shading_scale(gradient_shading_scale);
+          return model;
+        }
       },
       volume);
 }
@@ -216,7 +220,10 @@ void VolumetricModelObject::on_commit() {
   const float anisotropy = get_float("anisotropy", 0.f);
   if (!(anisotropy >= -1.f && anisotropy <= 1.f))
     throw Error(name() + ": parameter 'anisotropy' must be in [-1, 1], got " + std::to_string(anisotropy));
-  // OSPRay's `gradientShadingScale` is not read: reported unused.
+  const float gradient_shading_scale = get_float("gradientShadingScale", 0.f);
+  if (!(gradient_shading_scale >= 0.f && gradient_shading_scale <= 1.f))
+    throw Error(name() + ": parameter 'gradientShadingScale' must be in [0, 1], got " +
+                std::to_string(gradient_shading_scale));
 
   std::lock_guard lock(mutex_);
   EngineVolumetricModel model;
@@ -235,7 +242,10 @@ void VolumetricModelObject::on_commit() {
   }
   std::visit(
       [&](auto& m) {
-        if constexpr (!std::is_same_v<std::decay_t<decltype(m)>, std::monostate>) m.set_anisotropy(anisotropy);
+        if constexpr (!std::is_same_v<std::decay_t<decltype(m)>, std::monostate>) {
+          m.set_anisotropy(anisotropy);
+          m.set_gradient_shading_scale(gradient_shading_scale);
+        }
       },
       model);
   model_ = std::move(model);
@@ -245,6 +255,7 @@ void VolumetricModelObject::on_commit() {
   transfer_function_ = std::move(tf);
   density_scale_ = density_scale;
   anisotropy_ = anisotropy;
+  gradient_shading_scale_ = gradient_shading_scale;
 }
 
 std::uint64_t VolumetricModelObject::version() const {
@@ -259,7 +270,7 @@ EngineVolumetricModel VolumetricModelObject::engine_model(VolumeBuildStats& stat
   ++stats.volumes;
   if (model_volume_version_ != volume_->version()) {
     model_ = make_volumetric_model(volume_->volume(), *transfer_function_->transfer_function(), density_scale_,
-                                   anisotropy_);
+                                   anisotropy_, gradient_shading_scale_);
     model_volume_version_ = volume_->version();
     model_tf_version_ = transfer_function_->version();
     ++stats.macrocells_built;

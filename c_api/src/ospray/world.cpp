@@ -15,8 +15,8 @@ namespace {
 /// `colors` (the model's colours times kd, or kd alone), sampling the texture's volume
 /// and transfer function as currently committed.
 VolumeSlice model_slice(const GeometricModel& model, const PlaneData& data, std::vector<float> colors) {
-  const VolumetricModelObject& source = *model.volume_texture()->volume_model();
-  const TransferFunction& tf = *source.transfer_function()->transfer_function();
+  const TextureObject& texture = *model.volume_texture();
+  const TransferFunction& tf = *texture.transfer_function()->transfer_function();
   return std::visit(
       [&](const auto& v) -> VolumeSlice {
         if constexpr (std::is_same_v<std::decay_t<decltype(v)>, std::monostate>)
@@ -24,7 +24,7 @@ VolumeSlice model_slice(const GeometricModel& model, const PlaneData& data, std:
         else
           return VolumeSlice(data.planes, data.bounds, v, tf, std::move(colors));
       },
-      source.volume()->volume());
+      texture.sampled_volume()->volume());
 }
 
 }  // namespace
@@ -408,13 +408,13 @@ std::shared_ptr<const BuiltGroup> World::build_group(Group& group, const shim::I
       throw Error("parameter 'geometry' element " + std::to_string(k) + " (" + model->name() + " of " +
                   geometry.name() + "): " + why);
     // Geometries bake their material's base colour into their colours, except
-    // isosurfaces, which have none: their material is tinted by the model's one colour.
-    // The renderer's materials and per-primitive ones are not baked (the colours
-    // multiply their base colour when shading).
-    const bool iso = geometry.isosurface_volume();
-    const std::optional<Vec3f> iso_tint = iso ? model->uniform_color() : std::nullopt;
-    std::uint32_t material = geometry.isosurface_volume() ? material_index(model->material(), false, iso_tint)
-                                                          : material_index(model->material(), true);
+    // isosurfaces without a colour per isovalue: their material is tinted by the model's
+    // one colour. The renderer's materials and per-primitive ones are not baked (the
+    // colours multiply their base colour when shading).
+    const bool uncoloured_iso = geometry.isosurface_volume() && model->face_colors().empty();
+    const std::optional<Vec3f> iso_tint = uncoloured_iso ? model->uniform_color() : std::nullopt;
+    std::uint32_t material = uncoloured_iso ? material_index(model->material(), false, iso_tint)
+                                            : material_index(model->material(), true);
     std::vector<std::uint32_t> primitive_materials;
     for (const GeometricModel::MaterialChoice& choice : model->material_choices())
       primitive_materials.push_back(choice.object ? material_index(choice.object.get(), false, iso_tint)
@@ -439,7 +439,10 @@ std::shared_ptr<const BuiltGroup> World::build_group(Group& group, const shim::I
       else
         add(Planes(data.planes, data.bounds, std::move(colors)));
     } else if (const auto isosurface = geometry.isosurface()) {
-      add(*isosurface);  // a copy: the volume is shared
+      Isosurface shells = *isosurface;  // a copy: the volume is shared
+      if (!uncoloured_iso)
+        shells.set_colors(tinted_colors(model->face_colors(), model->tint(), geometry.primitive_count()));
+      add(std::move(shells));
     } else {
       add(model_mesh(*model, built->keep_alive));
     }

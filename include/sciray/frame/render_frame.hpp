@@ -157,6 +157,7 @@ std::uint32_t render_frame(const Renderer& renderer, const CameraT& camera, Fram
             }
             const F pixel_x = F(static_cast<float>(x0) + 0.5f) + lane_dx;
             const F pixel_y = F(static_cast<float>(y0) + 0.5f) + lane_dy;
+            const F center_x = pixel_x * F(inv_width), center_y = pixel_y * F(inv_height);
             std::optional<CameraSequence<Arch>> sequence;
             if (needs_sequence) sequence.emplace(pixels);
             // Sample s of every lane, and its projected depth.
@@ -172,7 +173,7 @@ std::uint32_t render_frame(const Renderer& renderer, const CameraT& camera, Fram
               const F time_u = uses_time ? time_sample<Arch>(pixels, sample_index) : F(0.5f);
               const auto ray = camera.generate(screen_x, screen_y, cs.lens_u, cs.lens_v, time_u);
               PixelSample<Arch> one =
-                  renderer.render(ray, active, SampleIndex<Arch>{pixels, sample_index, screen_x, screen_y});
+                  renderer.render(ray, active, SampleIndex<Arch>{pixels, sample_index, screen_x, screen_y, center_x, center_y});
               projected = camera.projected_depth(ray, one.t);
               return one;
             };

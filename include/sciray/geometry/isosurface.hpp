@@ -13,6 +13,10 @@
 // isovalue; inside it the ray walks the cells (3D DDA) and solves only in cells whose
 // corner range contains one. The volume's voxel type is erased behind a cell loader, so
 // one Isosurface type serves every StructuredRegular.
+//
+// A hit's u holds the index of the isovalue it lies on (OSPRay's primitive of an
+// isosurface; the surface has no texture coordinates), so that each isovalue's shell can
+// take its own colour.
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -50,7 +54,25 @@ public:
     find_active_macrocells();
   }
 
-  std::size_t owned_bytes() const { return active_.size() * sizeof(std::uint32_t); }
+  /// RGBA colours (4 floats each): one per isovalue, or one for all, or none (the
+  /// surfaces show their material's colour).
+  void set_colors(std::vector<float> rgba) {
+    if (rgba.size() == 4) {
+      const std::array<float, 4> one{rgba[0], rgba[1], rgba[2], rgba[3]};
+      for (std::size_t i = 1; i < isovalues_.size(); ++i) rgba.insert(rgba.end(), one.begin(), one.end());
+    }
+    if (!rgba.empty() && rgba.size() != 4 * isovalues_.size())
+      throw Error("isosurface: " + std::to_string(rgba.size() / 4) + " colours for " +
+                  std::to_string(isovalues_.size()) + " isovalues (give one for all, or one for each)");
+    colors_ = std::move(rgba);
+  }
+  bool translucent_colors() const {
+    for (std::size_t i = 3; i < colors_.size(); i += 4)
+      if (colors_[i] < 1.f) return true;
+    return false;
+  }
+
+  std::size_t owned_bytes() const { return active_.size() * sizeof(std::uint32_t) + colors_.size() * sizeof(float); }
   void validate() const {}  // everything is checked at construction
   Box3f bounds() const { return bounds_; }
   std::size_t primitive_count() const { return active_.size(); }
@@ -73,27 +95,38 @@ public:
     } else {
       using F = simd::Float<Arch>;
       constexpr int W = simd::width<Arch>;
-      alignas(64) float hit[W], t[W], nx[W], ny[W], nz[W];
+      alignas(64) float hit[W], t[W], nx[W], ny[W], nz[W], iso[W];
       for (int i = 0; i < W; ++i) {
         const Ray<float> r{{simd::lane(ray.org.x, i), simd::lane(ray.org.y, i), simd::lane(ray.org.z, i)},
                            {simd::lane(ray.dir.x, i), simd::lane(ray.dir.y, i), simd::lane(ray.dir.z, i)},
                            simd::lane(ray.tnear, i), simd::lane(ray.tfar, i)};
         const PrimitiveHit<simd::scalar> h = intersect_lane(r, prim);
-        hit[i] = h.hit ? 1.f : 0.f, t[i] = h.t, nx[i] = h.ng.x, ny[i] = h.ng.y, nz[i] = h.ng.z;
+        hit[i] = h.hit ? 1.f : 0.f, t[i] = h.t, nx[i] = h.ng.x, ny[i] = h.ng.y, nz[i] = h.ng.z, iso[i] = h.u;
       }
       PrimitiveHit<Arch> out;
       out.hit = F::load_aligned(hit) != F(0.f);
       out.t = F::load_aligned(t);
       out.ng = {F::load_aligned(nx), F::load_aligned(ny), F::load_aligned(nz)};
+      out.u = F::load_aligned(iso);
       return out;
     }
   }
 
   template <class Arch>
-  SurfaceSample<Arch> surface(const accel::Hit<Arch>& hit, const simd::Mask<Arch>&) const {
+  SurfaceSample<Arch> surface(const accel::Hit<Arch>& hit, const simd::Mask<Arch>& lanes) const {
     SurfaceSample<Arch> s;
     s.normal = normalize(hit.ng);
-    s.has_color = simd::Mask<Arch>(false);
+    s.has_color = simd::Mask<Arch>(!colors_.empty());
+    if (colors_.empty()) return s;
+    // The colour of the isovalue each lane hit (u holds its index).
+    constexpr int W = simd::width<Arch>;
+    alignas(64) float rgba[4][W];
+    for (int i = 0; i < W; ++i) {
+      const auto iso = simd::lane(lanes, i) ? static_cast<std::size_t>(simd::lane(hit.u, i)) : 0;
+      for (int c = 0; c < 4; ++c) rgba[c][i] = colors_[4 * std::min(iso, isovalues_.size() - 1) + c];
+    }
+    s.color = {simd::load<Arch>(rgba[0]), simd::load<Arch>(rgba[1]), simd::load<Arch>(rgba[2])};
+    s.alpha = simd::load<Arch>(rgba[3]);
     return s;
   }
 
@@ -176,12 +209,17 @@ private:
       load_cell_(volume_.get(), cell[0], cell[1], cell[2], c);
       const float cmin = *std::min_element(c, c + 8), cmax = *std::max_element(c, c + 8);
       float best = std::numeric_limits<float>::infinity();
-      for (float iso : isovalues_)
-        if (iso >= cmin && iso <= cmax) best = std::min(best, solve_cell(c, iso, o, d, cell, t_cell, t_exit));
+      std::size_t best_iso = 0;
+      for (std::size_t k = 0; k < isovalues_.size(); ++k) {
+        const float iso = isovalues_[k];
+        if (!(iso >= cmin && iso <= cmax)) continue;
+        if (const float t = solve_cell(c, iso, o, d, cell, t_cell, t_exit); t < best) best = t, best_iso = k;
+      }
       if (best < std::numeric_limits<float>::infinity()) {
         PrimitiveHit<simd::scalar> h;
         h.hit = true;
         h.t = best;
+        h.u = static_cast<float>(best_iso);
         // The normal: the gradient by central differences, which unlike the cell's own
         // trilinear gradient is continuous across cells (no faceting).
         h.ng = gradient_(volume_.get(), ray.org + ray.dir * best);
@@ -271,6 +309,7 @@ private:
   Box3f bounds_;
   std::array<std::int64_t, 3> cells_{};
   std::vector<std::uint32_t> active_;
+  std::vector<float> colors_;  ///< RGBA per isovalue, or empty
 };
 
 }  // namespace sciray

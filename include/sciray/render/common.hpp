@@ -6,6 +6,7 @@
 // packet would pay for all of them in every lane.
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <limits>
 #include <memory>
 #include <string>
@@ -33,11 +34,14 @@ struct RendererParams {
   Vec3f background_color{0.f, 0.f, 0.f};  ///< backgroundColor (rgb)
   float background_alpha = 0.f;           ///< backgroundColor (alpha)
   std::shared_ptr<const Texture2D> backplate;  ///< map_backplate: screen-space background image
+  /// map_maxDepth: how far camera rays reach, per pixel (its first channel at the pixel
+  /// centre's screen position): surfaces and volumes beyond are not seen, as behind a
+  /// rasterized image's depth buffer that the frame is composited with.
+  std::shared_ptr<const Texture2D> max_depth;
   int max_path_length = 20;   ///< maxPathLength: surfaces a ray may pass through or bounce off
   float min_contribution = 0.001f;  ///< minContribution: paths carrying less are stopped
   float volume_sampling_rate = 1.f;  ///< volumeSamplingRate: samples per cell
   bool empty_space_skipping = true;
-  bool volume_gradient_shading = false;
   bool volume_preintegration = false;    ///< see VolumeIntegration::preintegration
   bool volume_adaptive_sampling = false;  ///< see VolumeIntegration::adaptive_sampling
 };
@@ -188,37 +192,102 @@ inline float ray_offset(const Vec3f& p, float scene_size) {
   return 8e-6f * magnitude + 1e-6f * scene_size;
 }
 
+/// How far each active lane's camera ray reaches: map_maxDepth at its pixel centre
+/// (OSPRay's Renderer_getMaxDepth), infinity without the map.
+template <class Arch>
+simd::Float<Arch> max_depth(const RendererParams& params, const simd::Mask<Arch>& active,
+                            const SampleIndex<Arch>& index) {
+  constexpr float inf = std::numeric_limits<float>::infinity();
+  if (!params.max_depth) return simd::Float<Arch>(inf);
+  alignas(64) float depth[simd::width<Arch>];
+  for (int i = 0; i < simd::width<Arch>; ++i)
+    depth[i] = simd::lane(active, i)
+                   ? params.max_depth->sample(simd::lane(index.center_x, i), simd::lane(index.center_y, i)).x
+                   : inf;
+  return simd::load<Arch>(depth);
+}
+
+/// Whether any of the world's volumes overlap, and if so how they are marched together:
+/// in slabs one step of the finest of them long, across their union.
+struct VolumeOverlap {
+  bool any = false;
+  float slab = 0.f;  ///< world units
+  Box3f bounds;      ///< of all volumes
+};
+
+template <class WorldT>
+VolumeOverlap volume_overlap(const WorldT& world, const RendererParams& params) {
+  VolumeOverlap out;
+  if constexpr (requires { world.volume_count(); }) {
+    std::vector<Box3f> boxes;
+    out.slab = std::numeric_limits<float>::infinity();
+    world.for_each_volume([&](const auto& model) {
+      const Box3f b = model.bounds();
+      for (const Box3f& o : boxes)
+        out.any = out.any || (b.lower.x < o.upper.x && o.lower.x < b.upper.x && b.lower.y < o.upper.y &&
+                              o.lower.y < b.upper.y && b.lower.z < o.upper.z && o.lower.z < b.upper.z);
+      boxes.push_back(b);
+      out.bounds.extend(b);
+      out.slab = std::min(out.slab, model.step(params.volume_sampling_rate));
+    });
+  }
+  return out;
+}
+
+/// How volumes of `world` are integrated under the renderer's parameters, at
+/// `rate_scale` times its sampling rate (OSPRay's shadow and AO rays sample coarser).
+template <class WorldT>
+VolumeIntegration volume_integration(const WorldT& world, const RendererParams& params, float rate_scale = 1.f) {
+  VolumeIntegration how;
+  how.sampling_rate = params.volume_sampling_rate * rate_scale;
+  how.empty_space_skipping = params.empty_space_skipping;
+  if constexpr (requires { world.clipping(); }) how.clipping = world.clipping();
+  how.preintegration = params.volume_preintegration;
+  how.adaptive_sampling = params.volume_adaptive_sampling;
+  return how;
+}
+
 /// Volumes of `world` integrated along `ray` up to `t_end`, composited front to back into
-/// `color` under `transmittance` (both updated).
-template <class Arch, class WorldT>
-void composite_volumes(const WorldT& world, const RendererParams& params, const Vec3f& to_light,
+/// `color` under `transmittance` (both updated). `shade` lights gradient-shaded samples
+/// (VolumetricModel::integrate); without it no sample is lit. Volumes that overlap
+/// (`overlap`, from volume_overlap) are composited slab by slab, each volume over the
+/// slab in turn, so that their samples interleave in depth as OSPRay's do (one after the
+/// other, a volume behind another would show in front of it).
+template <class Arch, class WorldT, class Shade = std::nullptr_t>
+void composite_volumes(const WorldT& world, const VolumeIntegration& how, const VolumeOverlap& overlap,
                        const Ray<simd::Float<Arch>>& ray, const simd::Mask<Arch>& active,
                        const simd::Float<Arch>& t_end, Vec3<simd::Float<Arch>>& color,
-                       Vec3<simd::Float<Arch>>& transmittance) {
+                       Vec3<simd::Float<Arch>>& transmittance, const Shade& shade = nullptr) {
   using Fl = simd::Float<Arch>;
   if constexpr (requires { world.volume_count(); }) {
     if (!world.volume_count()) return;
-    VolumeIntegration how;
-    how.sampling_rate = params.volume_sampling_rate;
-    how.empty_space_skipping = params.empty_space_skipping;
-    how.gradient_shading = params.volume_gradient_shading;
-    how.to_light = to_light;
-    how.clipping = world.clipping();
-    how.preintegration = params.volume_preintegration;
-    how.adaptive_sampling = params.volume_adaptive_sampling;
-    world.for_each_volume([&](const auto& model) {
-      const VolumeSample<Arch> v = model.template integrate<Arch>(ray, active, t_end, how);
-      color = color + transmittance * v.color;
-      transmittance = transmittance * (Fl(1.f) - v.alpha);
-    });
+    const auto composite = [&](const Ray<Fl>& segment, const simd::Mask<Arch>& lanes, const Fl& end) {
+      world.for_each_volume([&](const auto& model) {
+        const VolumeSample<Arch> v = model.template integrate<Arch>(segment, lanes, end, how, shade);
+        color = color + transmittance * v.color;
+        transmittance = transmittance * (Fl(1.f) - v.alpha);
+      });
+    };
+    if (!overlap.any) return composite(ray, active, t_end);
+    // The slabs cover where the ray crosses the volumes' union box.
+    const Vec3<Fl> inv{Fl(1.f) / ray.dir.x, Fl(1.f) / ray.dir.y, Fl(1.f) / ray.dir.z};
+    const Vec3<Fl> t0 = (Vec3<Fl>(overlap.bounds.lower) - ray.org) * inv;
+    const Vec3<Fl> t1 = (Vec3<Fl>(overlap.bounds.upper) - ray.org) * inv;
+    const Vec3<Fl> near = min(t0, t1), far = max(t0, t1);
+    Fl start = simd::max(simd::max(simd::max(near.x, near.y), near.z), ray.tnear);
+    const Fl leave = simd::min(simd::min(simd::min(far.x, far.y), far.z), simd::min(t_end, ray.tfar));
+    auto lanes = active & (start < leave);
+    const Fl slab(overlap.slab);
+    Ray<Fl> segment = ray;
+    while (simd::any(lanes)) {
+      segment.tnear = start;
+      composite(segment, lanes, simd::min(start + slab, leave));
+      start = start + slab;
+      // Early ray termination, as each volume's own march stops at opacity 0.99.
+      const Fl left = simd::max(simd::max(transmittance.x, transmittance.y), transmittance.z);
+      lanes = lanes & (start < leave) & (left > Fl(0.01f));
+    }
   }
-}
-
-/// The direction towards the first distant light (for volume gradient shading).
-inline Vec3f key_light_direction(const std::vector<Light>& lights) {
-  for (const Light& l : lights)
-    if (const auto* d = std::get_if<DistantLight>(&l)) return -normalize(d->direction);
-  return {0.f, 0.f, 1.f};
 }
 
 }  // namespace detail

@@ -51,7 +51,8 @@ public:
   using M = simd::Mask<Arch>;
   static constexpr int W = simd::width<Arch>;
 
-  PathTracer(const WorldT& world, const PathTracerParams& params) : world_(&world), params_(params) {
+  PathTracer(const WorldT& world, const PathTracerParams& params)
+      : world_(&world), params_(params), volume_overlap_(detail::volume_overlap(world, params)) {
     validate(params_, world.materials_needed(), "pathtracer");
     if (params_.roulette_path_length < 0)
       throw Error("pathtracer renderer: parameter 'roulettePathLength' must not be negative");
@@ -69,6 +70,7 @@ public:
       path[i].org = {simd::lane(camera_ray.org.x, i), simd::lane(camera_ray.org.y, i), simd::lane(camera_ray.org.z, i)};
       path[i].dir = {simd::lane(camera_ray.dir.x, i), simd::lane(camera_ray.dir.y, i), simd::lane(camera_ray.dir.z, i)};
     }
+    const F camera_reach = detail::max_depth<Arch>(params_, active, index);
     PixelSample<Arch> out;
     out.t = F(inf);
     alignas(64) float first[7][W];  // t, normal, albedo of the first hit
@@ -94,7 +96,7 @@ public:
       ray.org = {simd::load<Arch>(lanes[0]), simd::load<Arch>(lanes[1]), simd::load<Arch>(lanes[2])};
       ray.dir = {simd::load<Arch>(lanes[3]), simd::load<Arch>(lanes[4]), simd::load<Arch>(lanes[5])};
       ray.tnear = depth == 0 ? camera_ray.tnear : F(0.f);  // the camera's near clip
-      ray.tfar = F(inf);
+      ray.tfar = depth == 0 ? camera_reach : F(inf);
       ray.time = camera_ray.time;
       const M live = simd::load<Arch>(lanes[6]) > F(0.f);
       const auto hit = accel::intersect<Arch>(world_->scene(), ray, live, depth == 0, world_->hit_filter());
@@ -259,8 +261,8 @@ private:
   /// The camera ray's volume opacity in front of `t_end`, integrated as scivis does.
   void camera_volume_alpha(Path* path, const Ray<F>& ray, const M& live, const F& t_end) const {
     Vec3<F> color(splat(0.f)), transmittance(splat(1.f));
-    detail::composite_volumes<Arch>(*world_, params_, detail::key_light_direction(params_.lights), ray, live, t_end,
-                                    color, transmittance);
+    detail::composite_volumes<Arch>(*world_, detail::volume_integration(*world_, params_), volume_overlap_, ray, live,
+                                    t_end, color, transmittance);
     for (int i = 0; i < W; ++i)
       path[i].volume_alpha = 1.f - (simd::lane(transmittance.x, i) + simd::lane(transmittance.y, i) +
                                     simd::lane(transmittance.z, i)) / 3.f;
@@ -406,6 +408,7 @@ private:
 
   const WorldT* world_;
   PathTracerParams params_;
+  detail::VolumeOverlap volume_overlap_;  ///< for the camera ray's volume alpha
   float scene_size_ = 1.f;
 };
 

@@ -16,6 +16,9 @@ struct SampleIndex {
   /// Where the camera sample lies on the screen, [0,1]^2 from the bottom left (for
   /// screen-space backgrounds).
   simd::Float<Arch> screen_x = simd::Float<Arch>(0.5f), screen_y = simd::Float<Arch>(0.5f);
+  /// The screen position of the lane's pixel centre: per-pixel maps (map_maxDepth) are
+  /// read there, the same for every sample of the pixel.
+  simd::Float<Arch> center_x = simd::Float<Arch>(0.5f), center_y = simd::Float<Arch>(0.5f);
 };
 
 /// A renderer's result for a packet of camera rays, one value per frame buffer channel.

@@ -82,7 +82,12 @@ public:
   static constexpr bool is_ao = std::is_same_v<Params, AOParams>;
 
   LocalRenderer(const WorldT& world, const Params& params)
-      : world_(&world), params_(params), to_light_(key_light_direction(params.lights)) {
+      : world_(&world),
+        params_(params),
+        volume_overlap_(volume_overlap(world, params)),
+        camera_volumes_(volume_integration(world, params)),
+        light_volumes_(volume_integration(world, params, 0.25f)),
+        ao_volumes_(volume_integration(world, params, 0.1f)) {
     validate(params_, world.materials_needed(), is_ao ? "ao" : "scivis");
     if (params_.ao_samples < 0) throw Error(std::string(is_ao ? "ao" : "scivis") + " renderer: parameter 'aoSamples' must not be negative");
     if (!(params_.ao_distance > 0.f)) throw Error(std::string(is_ao ? "ao" : "scivis") + " renderer: parameter 'aoDistance' must be positive");
@@ -134,13 +139,22 @@ public:
     out.t = inf;
     Vec3<F> color(splat(0.f)), transmittance(splat(1.f));
     Ray<F> ray = camera_ray;
+    ray.tfar = simd::min(ray.tfar, max_depth<Arch>(params_, active, index));
     M live = active;
     for (int depth = 0; simd::any(live); ++depth) {
       const auto hit = accel::intersect<Arch>(world_->scene(), ray, live, depth == 0, world_->hit_filter());
-      composite_volumes<Arch>(*world_, params_, to_light_, ray, live, simd::select(hit.hit, hit.t, inf), color,
-                              transmittance);
+      const F t_end = simd::select(hit.hit, hit.t, inf);
+      if constexpr (is_ao) {
+        composite_volumes<Arch>(*world_, camera_volumes_, volume_overlap_, ray, live, t_end, color,
+                                transmittance);  // unlit, as OSPRay's ao
+      } else {
+        composite_volumes<Arch>(*world_, camera_volumes_, volume_overlap_, ray, live, t_end, color, transmittance,
+                                [&](const Vec3<F>& p, const Vec3<F>& n, const Vec3<F>& c, const M& lanes) {
+                                  return lit_volume_sample(p, n, c, ray.time, lanes, rng);
+                                });
+      }
       if constexpr (!is_ao)
-        if (params_.visible_lights) add_visible_lights(ray, live, simd::select(hit.hit, hit.t, inf), transmittance, color);
+        if (params_.visible_lights) add_visible_lights(ray, live, t_end, transmittance, color);
       const M surfaces = live & hit.hit;
       if (depth == 0) record_first_hit(hit, out);
       Vec3<F> pass(splat(0.f));
@@ -334,12 +348,34 @@ private:
           response = response + glossy * pow<Arch>(simd::max(dot(n, h), F(0.f)), shininess);
         }
         Vec3<F> arriving = weight;
-        if (params_.shadows) arriving = arriving * shadow_transmittance(org, wi, dist, ray.time, lit_lanes);
+        if (params_.shadows) arriving = arriving * shadow_transmittance(org, wi, dist, ray.time, lit_lanes, light_volumes_);
         lit = lit + select(lit_lanes, response * arriving, Vec3<F>(splat(0.f)));
       }
     }
     out.color = lit * o.d;
     return out;
+  }
+
+  /// A gradient-shaded volume sample of colour c at p lit as OSPRay's scivis lights it
+  /// (a surface without material, normal n): c/π from every light on n's side (shadowed
+  /// by surfaces with `shadows`) plus c times the ambient light (and its AO visibility).
+  /// No two-sided lighting: n points out of the structure, and light behind it is not seen.
+  Vec3<F> lit_volume_sample(const Vec3<F>& p, const Vec3<F>& n, const Vec3<F>& c, const F& time, const M& lanes,
+                            PixelRandom* rng) const {
+    Vec3<F> lit = c * Vec3<F>(ambient_) * ambient_visibility(p, n, time, lanes, rng);
+    const Vec3<F> diffuse = c * F(1.f / pi);
+    for (const Light* light : direct_lights_) {
+      Vec3<F> wi, weight;
+      F dist;
+      if (!sample_light(*light, p, n, lanes, wi, weight, dist)) continue;
+      const F cos_theta = dot(n, wi);
+      const M lit_lanes = lanes & (cos_theta > F(0.f));
+      if (!simd::any(lit_lanes)) continue;
+      Vec3<F> arriving = weight;
+      if (params_.shadows) arriving = arriving * shadow_transmittance(p, wi, dist, time, lit_lanes, light_volumes_);
+      lit = lit + select(lit_lanes, diffuse * cos_theta * arriving, Vec3<F>(splat(0.f)));
+    }
+    return lit;
   }
 
   /// Per-lane light samples gathered into packets; false where no lane gets light.
@@ -395,23 +431,38 @@ private:
         d[0][i] = w.x, d[1][i] = w.y, d[2][i] = w.z;
       }
       const Vec3<F> dir{simd::load<Arch>(d[0]), simd::load<Arch>(d[1]), simd::load<Arch>(d[2])};
-      const Vec3<F> through = shadow_transmittance(org, dir, F(params_.ao_distance), time, lanes);
+      const Vec3<F> through = shadow_transmittance(org, dir, F(params_.ao_distance), time, lanes, ao_volumes_);
       visible = visible + (through.x + through.y + through.z) * F(1.f / 3.f);
     }
     return visible * F(1.f / static_cast<float>(params_.ao_samples));
   }
 
   /// What reaches `org` from `dist` away along `dir`: 0 where something opaque is in the
-  /// way, the product of the transparent surfaces' filters otherwise. `time`: the camera
-  /// ray's, so that what moves casts its shadow where the camera saw it.
-  Vec3<F> shadow_transmittance(const Vec3<F>& org, const Vec3<F>& dir, const F& dist, const F& time,
-                               const M& lanes) const {
+  /// way, otherwise the product of the transparent surfaces' filters and the volumes'
+  /// transmittance (integrated as `volumes` says), as OSPRay's scivis shadows. `time`:
+  /// the camera ray's, so that what moves casts its shadow where the camera saw it.
+  Vec3<F> shadow_transmittance(const Vec3<F>& org, const Vec3<F>& dir, const F& dist, const F& time, const M& lanes,
+                               const VolumeIntegration& volumes) const {
     Ray<F> ray;
     ray.org = org;
     ray.dir = dir;
     ray.tnear = F(0.f);
     ray.tfar = dist * F(1.f - 1e-5f);
     ray.time = time;
+    Vec3<F> through = surface_transmittance(ray, lanes);
+    const M lit = lanes & (simd::max(simd::max(through.x, through.y), through.z) > F(0.f));
+    if constexpr (requires { world_->volume_count(); })
+      if (world_->volume_count() && simd::any(lit)) {
+        Vec3<F> unused(splat(0.f)), volume_through(splat(1.f));
+        composite_volumes<Arch>(*world_, volumes, volume_overlap_, ray, lit,
+                                F(std::numeric_limits<float>::infinity()), unused, volume_through);
+        through = through * volume_through;
+      }
+    return through;
+  }
+
+  /// The surfaces' part of shadow_transmittance along `ray`.
+  Vec3<F> surface_transmittance(Ray<F> ray, const M& lanes) const {
     if (!any_transparent_) {
       const M blocked = accel::occluded<Arch>(world_->scene(), ray, lanes, false, world_->hit_filter());
       return select(blocked, Vec3<F>(splat(0.f)), Vec3<F>(splat(1.f)));
@@ -451,7 +502,10 @@ private:
 
   const WorldT* world_;
   Params params_;
-  Vec3f to_light_;
+  VolumeOverlap volume_overlap_;
+  /// Volumes along camera rays, and along shadow and AO rays (which, as OSPRay's, sample
+  /// them at a quarter and a tenth of the rate).
+  VolumeIntegration camera_volumes_, light_volumes_, ao_volumes_;
   std::vector<ObjMaterial> surfaces_;
   std::vector<bool> luminous_;
   std::vector<bool> textured_;        ///< per material: has maps

@@ -26,9 +26,11 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstddef>
 #include <limits>
 #include <memory>
 #include <string>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -51,9 +53,6 @@ struct VolumeSample {
 struct VolumeIntegration {
   float sampling_rate = 1.f;          ///< OSPRay's volumeSamplingRate: samples per cell
   bool empty_space_skipping = true;
-  bool gradient_shading = false;
-  Vec3f to_light{0.f, 0.f, 1.f};      ///< unit vector towards the distant light
-  float ambient = 0.3f, diffuse = 0.7f;
   const Clipping* clipping = nullptr;  ///< samples inside its volumes are skipped
   /// Integrate the transfer function over each step's value range (from the values at
   /// its ends) instead of taking it at the step's middle: coarse steps stay accurate
@@ -94,6 +93,15 @@ public:
   Box3f bounds() const { return volume_->bounds(); }
   std::size_t owned_bytes() const { return (ranges_.size() * 2 + opacity_.size()) * sizeof(float); }
 
+  /// OSPRay's gradientShadingScale: how much of each sample's colour is lit with the
+  /// gradient as its normal, from 0 (the transfer function's colour) to 1 (fully lit).
+  float gradient_shading_scale() const { return gradient_shading_scale_; }
+  void set_gradient_shading_scale(float scale) {
+    if (!(scale >= 0.f && scale <= 1.f))
+      throw Error("volumetric model: 'gradientShadingScale' must be in [0, 1], got " + std::to_string(scale));
+    gradient_shading_scale_ = scale;
+  }
+
   void set_anisotropy(float g) {
     if (!(g >= -1.f && g <= 1.f)) throw Error("volumetric model: 'anisotropy' must be in [-1, 1], got " + std::to_string(g));
     anisotropy_ = g;
@@ -112,10 +120,13 @@ public:
   }
 
   /// Marches the active lanes from where they enter the volume to where they leave it or
-  /// reach `t_end` (the nearest surface).
-  template <class Arch>
+  /// reach `t_end` (the nearest surface). With a gradient shading scale above 0, `shade`
+  /// lights the samples: shade(p, n, color, lanes) returns `color` lit at positions p
+  /// with unit normals n (the renderer's lights); without one, samples are not lit.
+  template <class Arch, class Shade = std::nullptr_t>
   VolumeSample<Arch> integrate(const Ray<simd::Float<Arch>>& ray, const simd::Mask<Arch>& active,
-                               const simd::Float<Arch>& t_end, const VolumeIntegration& how) const {
+                               const simd::Float<Arch>& t_end, const VolumeIntegration& how,
+                               const Shade& shade = nullptr) const {
     using F = simd::Float<Arch>;
     VolumeSample<Arch> out{Vec3<F>(Vec3f{0.f, 0.f, 0.f}), F(0.f)};
     const Vec3<F> inv{F(1.f) / ray.dir.x, F(1.f) / ray.dir.y, F(1.f) / ray.dir.z};
@@ -187,7 +198,8 @@ public:
           color = tf_.template color<Arch>(value);
         }
         const F alpha = F(1.f) - exp(sigma * neg_density * (step_end - t));
-        if (how.gradient_shading) color = color * shading<Arch>(p, ray.dir, how);
+        if constexpr (!std::is_null_pointer_v<Shade>)
+          if (gradient_shading_scale_ > 0.f) color = gradient_shaded<Arch>(p, color, sampled, shade);
         const F weight = simd::select(sampled, (F(1.f) - out.alpha) * alpha, F(0.f));
         out.color = out.color + color * weight;
         out.alpha = out.alpha + weight;
@@ -391,19 +403,22 @@ private:
     return simd::load<Arch>(out) != F(0.f);
   }
 
-  /// Lambert shading on the gradient, two-sided; where the field is flat the sample
-  /// keeps its colour (no direction to shade by).
-  template <class Arch>
-  simd::Float<Arch> shading(const Vec3<simd::Float<Arch>>& p, const Vec3<simd::Float<Arch>>& dir,
-                            const VolumeIntegration& how) const {
+  /// OSPRay's gradient shading: the colour lerped towards the colour lit with the
+  /// negated gradient as the normal (values are taken to rise inwards, so it points out),
+  /// by the gradient shading scale. Where the field is flat there is no normal: the
+  /// sample keeps its colour.
+  template <class Arch, class Shade>
+  Vec3<simd::Float<Arch>> gradient_shaded(const Vec3<simd::Float<Arch>>& p, const Vec3<simd::Float<Arch>>& color,
+                                          const simd::Mask<Arch>& lanes, const Shade& shade) const {
     using F = simd::Float<Arch>;
     const Vec3<F> g = volume_->template gradient<Arch>(p);
-    const F length_g = length(g);
-    const auto flat = length_g <= F(1e-12f);
-    const Vec3<F> n = g / simd::select(flat, F(1.f), length_g);
-    const F facing = simd::select(dot(n, dir) > F(0.f), F(-1.f), F(1.f));
-    const F lambert = simd::max(dot(n * facing, Vec3<F>(how.to_light)), F(0.f));
-    return simd::select(flat, F(1.f), F(how.ambient) + F(how.diffuse) * lambert);
+    const F length2 = dot(g, g);
+    const auto lit_lanes = lanes & (length2 > F(1e-6f));
+    if (!simd::any(lit_lanes)) return color;
+    const Vec3<F> n = -g / simd::sqrt(simd::select(lit_lanes, length2, F(1.f)));
+    const Vec3<F> lit = shade(p, n, color, lit_lanes);
+    const F s(gradient_shading_scale_);
+    return select(lit_lanes, color + (lit - color) * s, color);
   }
 
   void build_macrocell_ranges() {
@@ -454,6 +469,7 @@ private:
   TransferFunction tf_;
   float density_scale_;
   float anisotropy_;
+  float gradient_shading_scale_ = 0.f;
   float majorant_ = 0.f;
   std::array<std::int64_t, 3> cells_{};
   std::vector<float> ranges_;   ///< min, max per macrocell
