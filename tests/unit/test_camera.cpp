@@ -8,6 +8,7 @@
 #include <utility>
 #include <vector>
 
+#include "sciray/frame/pixel_filter.hpp"
 #include "sciray/math/sequence.hpp"
 #include "sciray/render/camera.hpp"
 
@@ -296,13 +297,9 @@ TEST_CASE("lens and stereo parameters that cannot work are named", "[camera][err
   CHECK_THROWS_WITH(stereo_mode_from_int("panoramic", -1), Catch::Contains("panoramic camera: 'stereoMode'"));
 }
 
-TEST_CASE("camera samples: the centre first, then film and lens positions stratified and unrelated",
+TEST_CASE("lens samples: stratified per pixel, decorrelated between pixels, the same in packets",
           "[camera][sampling]") {
-  for (std::uint32_t pixel : {0u, 17u, 123456u}) {
-    CHECK(camera_sample(pixel, 0).film_x == 0.5f);
-    CHECK(camera_sample(pixel, 0).film_y == 0.5f);
-  }
-  CHECK(camera_sample(1, 5).film_x != camera_sample(2, 5).film_x);  // pixels are decorrelated
+  CHECK(camera_sample(1, 5).lens_u != camera_sample(2, 5).lens_u);  // pixels are decorrelated
   // Packets of pixels give each lane its own pixel's samples.
   using A = xsimd::sse2;
   const CameraSequence<A> packet(simd::Int<A>{3, 70, 9000, -1});
@@ -311,28 +308,26 @@ TEST_CASE("camera samples: the centre first, then film and lens positions strati
     const std::uint32_t pixels[4] = {3, 70, 9000, 0xFFFFFFFFu};
     for (int i = 0; i < 4; ++i) {
       const CameraSample single = camera_sample(pixels[i], sample);
-      CHECK(simd::lane(lanes.film_x, i) == single.film_x);
-      CHECK(simd::lane(lanes.film_y, i) == single.film_y);
       CHECK(simd::lane(lanes.lens_u, i) == single.lens_u);
       CHECK(simd::lane(lanes.lens_v, i) == single.lens_v);
     }
   }
-  // 1024 samples of one pixel: each quarter of each of the four dimensions gets a
-  // quarter of them (within 6; independent random samples would miss by 14 on average),
-  // and film and lens are uncorrelated.
-  int quarters[4][4] = {};
+  // 1024 samples of one pixel: each quarter of each lens dimension gets a quarter of them
+  // (within 6; independent random samples would miss by 14 on average), and the lens is
+  // uncorrelated with the film's sample points.
+  int quarters[2][4] = {};
   double film_lens = 0.0;
   for (std::uint32_t i = 0; i < 1024; ++i) {
     const CameraSample s = camera_sample(99, i);
-    const float dims[4] = {s.film_x, s.film_y, s.lens_u, s.lens_v};
-    for (int d = 0; d < 4; ++d) {
+    const float dims[2] = {s.lens_u, s.lens_v};
+    for (int d = 0; d < 2; ++d) {
       REQUIRE(dims[d] >= 0.f);
       REQUIRE(dims[d] < 1.f);
       ++quarters[d][static_cast<int>(dims[d] * 4)];
     }
-    film_lens += (s.film_x - 0.5) * (s.lens_u - 0.5) * 12.0;  // correlation of two uniform variables
+    film_lens += (pixel_sample_point(i)[0] - 0.5) * (s.lens_u - 0.5) * 12.0;  // correlation of two uniform variables
   }
-  for (int d = 0; d < 4; ++d)
+  for (int d = 0; d < 2; ++d)
     for (int q = 0; q < 4; ++q) CHECK(std::abs(quarters[d][q] - 256) <= 6);
   CHECK(std::abs(film_lens / 1024) < 0.05);
 }

@@ -87,33 +87,6 @@ TEST_CASE("sRGB transfer function", "[math][color]") {
   CHECK(to_unorm8(-1.f) == 0);
 }
 
-TEST_CASE("pixel offsets: centre first, then the R2 sequence", "[math][sampling]") {
-  CHECK(pixel_offset(0).x == 0.5f);
-  CHECK(pixel_offset(0).y == 0.5f);
-  CHECK(pixel_offset(1).x == Approx(0.2548777f));
-  CHECK(pixel_offset(1).y == Approx(0.0698403f));
-  // Equidistribution, and the same for even and odd frames alone (the variance estimate
-  // compares them): each quarter of each axis gets 1/4 of 1024 frames, within 2 frames.
-  int all[2][4] = {}, odd[2][4] = {};
-  for (std::uint32_t f = 0; f < 1024; ++f) {
-    const auto o = pixel_offset(f);
-    REQUIRE(o.x >= 0.f);
-    REQUIRE(o.x < 1.f);
-    REQUIRE(o.y >= 0.f);
-    REQUIRE(o.y < 1.f);
-    for (int axis = 0; axis < 2; ++axis) {
-      const int quarter = static_cast<int>((axis ? o.y : o.x) * 4);
-      ++all[axis][quarter];
-      if (f % 2) ++odd[axis][quarter];
-    }
-  }
-  for (int axis = 0; axis < 2; ++axis)
-    for (int q = 0; q < 4; ++q) {
-      CHECK(std::abs(all[axis][q] - 256) <= 2);
-      CHECK(std::abs(odd[axis][q] - 128) <= 2);
-    }
-}
-
 TEST_CASE("ISA requests resolve to what the CPU runs", "[simd][isa]") {
   const auto sse_only = [](simd::Isa isa) { return isa == simd::Isa::sse42 || isa == simd::Isa::scalar; };
   CHECK(simd::resolve_isa("auto", sse_only) == simd::Isa::sse42);

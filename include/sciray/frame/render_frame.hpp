@@ -164,7 +164,7 @@ std::uint32_t render_frame(const Renderer& renderer, const CameraT& camera, Fram
             F projected;
             const auto render_sample = [&](std::uint32_t s) {
               const std::uint32_t sample_index = first_sample + s;
-              CameraSamples<F> cs{F(0.5f), F(0.5f), F(0.5f), F(0.5f)};
+              CameraSamples<F> cs{F(0.5f), F(0.5f)};
               if (sequence) cs = (*sequence)(sample_index);
               const auto [u, v] = pixel_sample_point(sample_index);
               const FilterOffset offset = filter.sample(u, v);

@@ -12,11 +12,8 @@ namespace detail {
 /// Kronecker sequences in 32-bit fixed point: start + i * step wraps modulo 1 for free,
 /// and a step rounded to 2^-32 keeps the sequence's structure over any practical count.
 constexpr std::uint32_t fixed_step(double step) { return static_cast<std::uint32_t>(step * 4294967296.0 + 0.5); }
-inline constexpr std::uint32_t r2_x = fixed_step(0.7548776662466927);    // 1 / plastic number
-inline constexpr std::uint32_t r2_y = fixed_step(0.5698402909980532);    // 1 / plastic number^2
 inline constexpr std::uint32_t r4_3 = fixed_step(0.6287067210378086);    // 1 / g^3, g the root of x^5 = x + 1
 inline constexpr std::uint32_t r4_4 = fixed_step(0.5385972572236101);    // 1 / g^4
-inline constexpr std::uint32_t half = 0x80000000u;
 inline constexpr std::uint32_t golden = fixed_step(0.6180339887498949);  // 1 / golden ratio
 
 /// Unsigned lanes: uint32 for the scalar path, a batch of them for packets.
@@ -44,34 +41,20 @@ U mix32(U x) {
 }
 }  // namespace detail
 
-/// Sub-pixel offset in [0,1)^2 for sample `i`: the R2 sequence (Roberts 2018, additive
-/// recurrence on the plastic number) started at the pixel centre. Sample 0 is the
-/// centre. Unlike Halton's base-2 axis, its even and odd samples are equally
-/// distributed, which the frame buffer's variance estimate relies on.
-struct PixelOffset {
-  float x, y;
-};
-inline PixelOffset pixel_offset(std::uint32_t i) {
-  return {detail::fixed_to_unit<simd::scalar>(detail::half + i * detail::r2_x),
-          detail::fixed_to_unit<simd::scalar>(detail::half + i * detail::r2_y)};
-}
-
-/// The camera's part of pixel samples (T = float for one, a packet for W), each in
-/// [0,1): where on the film (fed to the pixel filter) and where on the lens.
+/// Where on the lens a pixel sample passes (T = float for one, a packet for W), in
+/// [0,1)^2. (Where on the film is OSPRay's sample point, the same in every pixel:
+/// pixel_sample_point in frame/pixel_filter.hpp.)
 template <class T>
 struct CameraSamples {
-  T film_x, film_y, lens_u, lens_v;
+  T lens_u, lens_v;
 };
 using CameraSample = CameraSamples<float>;
 
-/// The camera samples of one pixel per lane. The film position is pixel_offset(sample)
-/// rotated by a per-pixel shift (Cranley-Patterson), so neighbouring pixels do not share
-/// one sub-pixel pattern; sample 0 stays at the centre, so single-sample images are
-/// centre-sampled. The lens position is the second pair of the 4D Kronecker sequence
-/// R4 (Roberts 2018, on the root of x^5 = x + 1), shifted per pixel too. Film and lens
-/// use rationally independent steps: were both pairs one 2D sequence under two shifts,
-/// lens and film would differ by a constant per pixel and depth of field would average
-/// a single line of the (film, lens) square instead of all of it.
+/// The lens samples of one pixel per lane: the second pair of the 4D Kronecker sequence
+/// R4 (Roberts 2018, on the root of x^5 = x + 1), rotated by a per-pixel shift
+/// (Cranley-Patterson), so that neighbouring pixels do not share one lens pattern. Its
+/// steps are rationally independent of the film's Halton points, so depth of field
+/// averages the whole (film, lens) square, not a line of it.
 template <class Arch>
 class CameraSequence {
 public:
@@ -85,31 +68,25 @@ public:
       p = static_cast<std::uint32_t>(pixel);
     else
       p = xsimd::bitwise_cast<U>(pixel);
-    // Four independent hashes (not a chain of them), so that they run in parallel.
-    constexpr std::uint32_t salt[4] = {0x5bd1e995U, 0x27d4eb2fU, 0x165667b1U, 0x9e3779b9U};
-    for (int k = 0; k < 4; ++k) shift_[k] = detail::mix32(p ^ U(salt[k]));
+    // Two independent hashes (not a chain of them), so that they run in parallel.
+    constexpr std::uint32_t salt[2] = {0x165667b1U, 0x9e3779b9U};
+    for (int k = 0; k < 2; ++k) shift_[k] = detail::mix32(p ^ U(salt[k]));
   }
 
   CameraSamples<F> operator()(std::uint32_t sample) const {
     CameraSamples<F> s;
-    if (sample == 0) {
-      s.film_x = s.film_y = F(0.5f);
-    } else {
-      s.film_x = detail::fixed_to_unit<Arch>(U(detail::half + sample * detail::r2_x) + shift_[0]);
-      s.film_y = detail::fixed_to_unit<Arch>(U(detail::half + sample * detail::r2_y) + shift_[1]);
-    }
-    s.lens_u = detail::fixed_to_unit<Arch>(U(sample * detail::r4_3) + shift_[2]);
-    s.lens_v = detail::fixed_to_unit<Arch>(U(sample * detail::r4_4) + shift_[3]);
+    s.lens_u = detail::fixed_to_unit<Arch>(U(sample * detail::r4_3) + shift_[0]);
+    s.lens_v = detail::fixed_to_unit<Arch>(U(sample * detail::r4_4) + shift_[1]);
     return s;
   }
 
 private:
-  U shift_[4];
+  U shift_[2];
 };
 
 /// The shutter time sample in [0,1) of sample `sample` of each lane's pixel: the
 /// golden-ratio sequence (stratified over any run of samples), shifted by a hash of the
-/// pixel of its own, so that it is unrelated to the film and lens positions.
+/// pixel of its own, so that it is unrelated to the lens position.
 template <class Arch>
 simd::Float<Arch> time_sample(const simd::Int<Arch>& pixel, std::uint32_t sample) {
   using U = detail::UInt<Arch>;
