@@ -151,6 +151,27 @@ TEST_CASE("texture coordinates: interpolated on a quad and a triangle as the ana
   CHECK(s.uv.v == 0.f);
 }
 
+TEST_CASE("texture wrap modes: repeat, mirrored repeat and clamp to edge outside 0 to 1", "[texture_maps]") {
+  // Two texels, A at u < 1/2 and B above, sampled at their nearest texel.
+  const Vec3f a{1.f, 0.f, 0.f}, b{0.f, 0.f, 1.f};
+  Texture2D texture(2, 1, {a, b}, true);
+  const auto at = [&](float u) { return texture.sample_tiled(u, 0.5f); };
+  CHECK(at(1.25f) == a);  // repeat (the default): [1, 2) is [0, 1) again
+  CHECK(at(1.75f) == b);
+  CHECK(at(-0.25f) == b);
+  texture.set_wrap(TextureWrap::mirrored_repeat, TextureWrap::repeat);
+  CHECK(at(0.25f) == a);
+  CHECK(at(1.25f) == b);  // [1, 2) is [0, 1) mirrored
+  CHECK(at(1.75f) == a);
+  CHECK(at(2.25f) == a);  // and [2, 3) as [0, 1)
+  texture.set_wrap(TextureWrap::clamp_to_edge, TextureWrap::repeat);
+  CHECK(at(1.25f) == b);  // the last texel beyond 1
+  CHECK(at(7.5f) == b);
+  CHECK(at(-0.5f) == a);  // the first below 0
+  // Environment lookups keep u repeating and v clamped whatever the wrap modes.
+  CHECK(texture.sample(1.25f, 3.f) == a);
+}
+
 TEST_CASE("texture coordinates: one per sphere", "[texture_maps]") {
   SphereData data;
   data.positions = {0.f, 0.f, 0.f, 3.f, 0.f, 0.f};
@@ -604,6 +625,20 @@ TEST_CASE("C API: bad texcoords and bad maps are named", "[c_api][texture_maps][
   ospRelease(data);
   ospCommit(mesh);
   api.expect_error("mesh geometry: parameter 'vertex.texcoord' has 2 elements but there are 3 vertices");
+  OSPTexture wrapping = ospNewTexture("texture2d");
+  const float two_texels[6] = {1, 0, 0, 0, 0, 1};
+  OSPData texels = ospNewSharedData2D(two_texels, OSP_VEC3F, 2, 1);
+  ospSetObject(wrapping, "data", texels);
+  ospRelease(texels);
+  ospSetInt(wrapping, "format", OSP_TEXTURE_RGB32F);
+  ospSetInt(wrapping, "wrapMode", 7);
+  ospCommit(wrapping);
+  api.expect_error("texture2d texture: parameter 'wrapMode' must be OSP_TEXTURE_WRAP_REPEAT (0), _MIRRORED_REPEAT (1) "
+                   "or _CLAMP_TO_EDGE (2), got 7");
+  ospSetVec2i(wrapping, "wrapMode", OSP_TEXTURE_WRAP_CLAMP_TO_EDGE, OSP_TEXTURE_WRAP_MIRRORED_REPEAT);
+  ospCommit(wrapping);
+  CHECK(api.messages.errors.empty());
+  ospRelease(wrapping);
   data = shared_floats(positions, OSP_VEC3F, 3);
   ospSetObject(mesh, "vertex.texcoord", data);
   ospRelease(data);

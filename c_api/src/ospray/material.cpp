@@ -206,9 +206,22 @@ void TextureObject::commit_texture2d() {
     return Vec3f{c[0], c[1], c[2]};
   });
   const bool nearest = get_int("filter", OSP_TEXTURE_FILTER_LINEAR) == OSP_TEXTURE_FILTER_NEAREST;
+  // `wrapMode`: one OSPTextureWrapMode for both axes, or a vec2ui/vec2i of one per axis.
+  int wrap[2] = {OSP_TEXTURE_WRAP_REPEAT, OSP_TEXTURE_WRAP_REPEAT};
+  if (const Param* w = find("wrapMode"); w && (w->type == OSP_VEC2UI || w->type == OSP_VEC2I)) {
+    std::memcpy(wrap, w->bytes.data(), sizeof wrap);
+  } else {
+    wrap[0] = wrap[1] = get_int("wrapMode", OSP_TEXTURE_WRAP_REPEAT);
+  }
+  for (int m : wrap)
+    if (m < OSP_TEXTURE_WRAP_REPEAT || m > OSP_TEXTURE_WRAP_CLAMP_TO_EDGE)
+      throw Error(name() + ": parameter 'wrapMode' must be OSP_TEXTURE_WRAP_REPEAT (0), _MIRRORED_REPEAT (1) or "
+                           "_CLAMP_TO_EDGE (2), got " + std::to_string(m));
   try {
-    image_ = std::make_shared<const Texture2D>(static_cast<int>(data->counts()[0]), static_cast<int>(data->counts()[1]),
-                                               std::move(texels), nearest);
+    auto image = std::make_shared<Texture2D>(static_cast<int>(data->counts()[0]), static_cast<int>(data->counts()[1]),
+                                             std::move(texels), nearest);
+    image->set_wrap(static_cast<TextureWrap>(wrap[0]), static_cast<TextureWrap>(wrap[1]));
+    image_ = std::move(image);
   } catch (const Error& e) {
     throw Error(name() + ": " + e.what());
   }

@@ -1,7 +1,8 @@
 #pragma once
 // A 2D texture of linear RGB texels (OSPRay `texture2d`), sampled bilinearly (or nearest).
 // Environment maps and backplates read it with the u axis wrapping and the v axis clamped
-// (sample); materials' maps tile it, both axes wrapping (sample_tiled), as OSPRay's maps.
+// (sample); materials' maps read it by its wrap mode per axis (sample_tiled): OSPRay's
+// `wrapMode`, repeat by default, or mirrored repeat, or clamped to the edge.
 #include <algorithm>
 #include <cmath>
 #include <memory>
@@ -13,6 +14,9 @@
 #include "sciray/math/vec.hpp"
 
 namespace sciray {
+
+/// How a material map continues beyond [0, 1): values as OSPRay's OSPTextureWrapMode.
+enum class TextureWrap : int { repeat = 0, mirrored_repeat = 1, clamp_to_edge = 2 };
 
 class Texture2D {
 public:
@@ -36,32 +40,56 @@ public:
 
   /// u wraps, v is clamped: environment maps and backplates.
   Vec3f sample(float u, float v) const { return lookup<false>(u, v); }
-  /// Both axes wrap: material maps (OSPRay's repeat wrap mode).
+  /// Each axis by its wrap mode: material maps.
   Vec3f sample_tiled(float u, float v) const { return lookup<true>(u, v); }
+  /// The wrap modes of u and v for sample_tiled (both repeat unless set).
+  void set_wrap(TextureWrap u, TextureWrap v) { wrap_u_ = u, wrap_v_ = v; }
 
   std::size_t bytes() const { return texels_.size() * sizeof(Vec3f); }
 
 private:
-  template <bool WrapV>
+  /// `Tiled`: by the wrap modes; else u repeats and v is clamped.
+  template <bool Tiled>
   Vec3f lookup(float u, float v) const {
     if (!std::isfinite(u) || !std::isfinite(v)) return splat(0.f);
-    // Tiling is periodic: reduce first, so that large coordinates keep their precision.
-    if constexpr (WrapV) u -= std::floor(u), v -= std::floor(v);
+    const TextureWrap mode_u = Tiled ? wrap_u_ : TextureWrap::repeat;
+    const TextureWrap mode_v = Tiled ? wrap_v_ : TextureWrap::clamp_to_edge;
+    // Repeats are periodic: reduce first (by one period, two when mirrored), so that
+    // large coordinates keep their precision.
+    u = reduce(u, mode_u), v = reduce(v, mode_v);
     const float x = u * static_cast<float>(width_) - 0.5f, y = v * static_cast<float>(height_) - 0.5f;
-    const auto row = [&](int at) { return WrapV ? wrap(at, height_) : std::clamp(at, 0, height_ - 1); };
+    const auto column = [&](int at) { return index(at, width_, mode_u); };
+    const auto row = [&](int at) { return index(at, height_, mode_v); };
     if (nearest_)
-      return texel(wrap(static_cast<int>(std::floor(x + 0.5f)), width_), row(static_cast<int>(std::floor(y + 0.5f))));
+      return texel(column(static_cast<int>(std::floor(x + 0.5f))), row(static_cast<int>(std::floor(y + 0.5f))));
     const float fx = std::floor(x), fy = std::floor(y);
     const float ax = x - fx, ay = y - fy;
-    const int x0 = wrap(static_cast<int>(fx), width_), x1 = wrap(static_cast<int>(fx) + 1, width_);
+    const int x0 = column(static_cast<int>(fx)), x1 = column(static_cast<int>(fx) + 1);
     const int y0 = row(static_cast<int>(fy)), y1 = row(static_cast<int>(fy) + 1);
     return (texel(x0, y0) * (1.f - ax) + texel(x1, y0) * ax) * (1.f - ay) +
            (texel(x0, y1) * (1.f - ax) + texel(x1, y1) * ax) * ay;
   }
-  static int wrap(int x, int n) { return ((x % n) + n) % n; }
+  static float reduce(float t, TextureWrap mode) {
+    if (mode == TextureWrap::repeat) return t - std::floor(t);
+    if (mode == TextureWrap::mirrored_repeat) return t - 2.f * std::floor(0.5f * t);
+    return t;
+  }
+  /// The texel index of `at` on an axis of `n` texels.
+  static int index(int at, int n, TextureWrap mode) {
+    switch (mode) {
+      case TextureWrap::repeat: return ((at % n) + n) % n;
+      case TextureWrap::mirrored_repeat: {
+        const int m = ((at % (2 * n)) + 2 * n) % (2 * n);
+        return m < n ? m : 2 * n - 1 - m;
+      }
+      case TextureWrap::clamp_to_edge: break;
+    }
+    return std::clamp(at, 0, n - 1);
+  }
 
   int width_, height_;
   bool nearest_;
+  TextureWrap wrap_u_ = TextureWrap::repeat, wrap_v_ = TextureWrap::repeat;
   std::vector<Vec3f> texels_;
 };
 
