@@ -214,7 +214,7 @@ void TextureObject::commit_texture2d() {
     wrap[0] = wrap[1] = get_int("wrapMode", OSP_TEXTURE_WRAP_REPEAT);
   }
   for (int m : wrap)
-    if (m < OSP_TEXTURE_WRAP_REPEAT || m > OSP_TEXTURE_WRAP_CLAMP_TO_EDGE)
+    if (m < static_cast<int>(OSP_TEXTURE_WRAP_REPEAT) || m > static_cast<int>(OSP_TEXTURE_WRAP_CLAMP_TO_EDGE))
       throw Error(name() + ": parameter 'wrapMode' must be OSP_TEXTURE_WRAP_REPEAT (0), _MIRRORED_REPEAT (1) or "
                            "_CLAMP_TO_EDGE (2), got " + std::to_string(m));
   try {
