@@ -299,8 +299,6 @@ void GeometricModel::on_commit() {
   // Read into locals: a commit that fails leaves the model as it was.
   Ref<Geometry> geometry = get_object<Geometry>("geometry", OSP_GEOMETRY, true);
   if (!geometry->committed()) throw Error(name() + ": its geometry has not been committed");
-  // `material`: one OSPMaterial, or indices into the renderer's `material` list, either
-  // one for all primitives or one per primitive (OSPRay's material lists).
   // `index`: per primitive, which element of `material` and `color` it takes (OSPRay's
   // indirection; the lists may then be shorter than the primitives).
   const std::size_t primitives = geometry->primitive_count();
@@ -325,6 +323,8 @@ void GeometricModel::on_commit() {
     return static_cast<std::size_t>(slot);
   };
 
+  // `material`: one OSPMaterial, or indices into the renderer's `material` list, either
+  // one for all primitives or one per primitive (OSPRay's material lists).
   Ref<Material> material;
   std::vector<MaterialChoice> choices;
   if (const Data* list = get_data(*this, find("material"), "material", {OSP_MATERIAL, OSP_UINT, OSP_INT})) {
