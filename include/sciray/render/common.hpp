@@ -108,24 +108,34 @@ void for_each_hit_group(const accel::Hit<Arch>& hit, const simd::Mask<Arch>& mas
   }
 }
 
+/// The materials per primitive of geometry `geom` of instance `inst` (as a hit reports
+/// them), or null where it has one material for all.
+template <class WorldT>
+const std::vector<std::uint32_t>* primitive_materials(const WorldT& world, std::uint32_t inst, std::uint32_t geom) {
+  if constexpr (requires { world.primitive_materials_of(inst, geom); })
+    return world.primitive_materials_of(inst, geom);
+  else
+    return nullptr;
+}
+
+/// Entry `prim` of a list of materials per primitive (the last for ids beyond it).
+inline std::uint32_t primitive_material(const std::vector<std::uint32_t>& materials, std::int32_t prim) {
+  return materials[std::min(static_cast<std::size_t>(std::max(prim, 0)), materials.size() - 1)];
+}
+
 /// Calls f(lanes, material) for the `lanes` of one (instance, geometry) group of `hit`
 /// by material: once, unless the geometry has a material per primitive.
 template <class Arch, class WorldT, class F>
 void for_each_material(const WorldT& world, std::uint32_t inst, std::uint32_t geom, const accel::Hit<Arch>& hit,
                        const simd::Mask<Arch>& lanes, F&& f) {
   constexpr int W = simd::width<Arch>;
-  const std::vector<std::uint32_t>* per_primitive = nullptr;
-  if constexpr (requires { world.primitive_materials_of(inst, geom); })
-    per_primitive = world.primitive_materials_of(inst, geom);
+  const std::vector<std::uint32_t>* per_primitive = primitive_materials(world, inst, geom);
   if (!per_primitive) return f(lanes, world.material_of(inst, geom));
   alignas(64) std::int32_t prim[W];
   alignas(64) float material[W];  // exact: indices stay far below 2^24
   simd::store<Arch>(prim, hit.prim_id);
-  for (int i = 0; i < W; ++i) {
-    const auto p = static_cast<std::size_t>(std::max(prim[i], 0));
-    material[i] = simd::lane(lanes, i) ? static_cast<float>((*per_primitive)[std::min(p, per_primitive->size() - 1)])
-                                       : -1.f;
-  }
+  for (int i = 0; i < W; ++i)
+    material[i] = simd::lane(lanes, i) ? static_cast<float>(primitive_material(*per_primitive, prim[i])) : -1.f;
   const simd::Float<Arch> materials = simd::load<Arch>(material);
   simd::Mask<Arch> remaining = lanes;
   while (simd::any(remaining)) {
@@ -143,9 +153,7 @@ void for_each_surface(const WorldT& world, const Ray<simd::Float<Arch>>& ray, co
                       const simd::Mask<Arch>& mask, F&& f) {
   using Fl = simd::Float<Arch>;
   for_each_hit_group<Arch>(hit, mask, [&](const simd::Mask<Arch>& lanes, std::uint32_t inst, std::uint32_t geom) {
-    const std::vector<std::uint32_t>* per_primitive = nullptr;
-    if constexpr (requires { world.primitive_materials_of(inst, geom); })
-      per_primitive = world.primitive_materials_of(inst, geom);
+    const std::vector<std::uint32_t>* per_primitive = primitive_materials(world, inst, geom);
     const std::uint32_t material = world.material_of(inst, geom);
     world.visit_hit(inst, geom, [&](const auto& geometry, const MotionTransform* placement) {
       auto surface = geometry.template surface<Arch>(hit, lanes);
@@ -172,11 +180,7 @@ void for_each_surface(const WorldT& world, const Ray<simd::Float<Arch>>& ray, co
                                       simd::lane(surface.color.z, i)}
                               : splat(1.f);
         s.alpha = s.has_color ? simd::lane(surface.alpha, i) : 1.f;
-        s.material = material;
-        if (per_primitive) {
-          const auto prim = static_cast<std::size_t>(std::max(simd::lane(hit.prim_id, i), 0));
-          s.material = (*per_primitive)[std::min(prim, per_primitive->size() - 1)];
-        }
+        s.material = per_primitive ? primitive_material(*per_primitive, simd::lane(hit.prim_id, i)) : material;
         s.uv = {simd::lane(surface.uv.u, i), simd::lane(surface.uv.v, i)};
         f(i, s);
       }

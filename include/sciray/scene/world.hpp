@@ -325,12 +325,6 @@ public:
     if (inst_id == RTC_INVALID_GEOMETRY_ID) return this->primitive_materials(geom_id);
     return instances_[inst_id - this->geometry_count()].group->primitive_materials(geom_id);
   }
-  /// The material of primitive `prim_id` of that geometry.
-  std::uint32_t material_of(std::uint32_t inst_id, std::uint32_t geom_id, std::uint32_t prim_id) const {
-    if (const auto* per_primitive = primitive_materials_of(inst_id, geom_id))
-      return (*per_primitive)[std::min<std::size_t>(prim_id, per_primitive->size() - 1)];
-    return material_of(inst_id, geom_id);
-  }
 
   /// How many materials the geometries, direct or instanced, need.
   std::uint32_t materials_needed() const {
