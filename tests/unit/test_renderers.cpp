@@ -622,7 +622,7 @@ TEST_CASE("scivis: a sphere light with a radius is sampled at its centre, as in 
 
 // ---- 5. the ao renderer -------------------------------------------------------------
 
-TEST_CASE("ao: an open plane shows kd * aoIntensity; a ceiling occludes it only within aoDistance", "[renderers]") {
+TEST_CASE("ao: an eye light, kd times the cosine to the camera; a ceiling dims it by aoIntensity only within aoDistance", "[renderers]") {
   const Vec3f kd{0.6f, 0.5f, 0.4f};
   AOParams params;
   params.materials = {ObjMaterial{.kd = kd}};
@@ -646,8 +646,13 @@ TEST_CASE("ao: an open plane shows kd * aoIntensity; a ceiling occludes it only 
     scene.world.add(TriangleMesh(quads({square(10.f, 0.f)})), 0);
     scene.world.commit();
     params.ao_samples = 4;
-    CHECK(largest_difference(render(scene.world, params, top_view(0.f, 0.f, 2.f, 4.f), size, size, 2),
-                             kd * params.ao_intensity) < 1e-5);
+    CHECK(largest_difference(render(scene.world, params, top_view(0.f, 0.f, 2.f, 4.f), size, size, 2), kd) < 1e-5);
+    // Seen 60 degrees off its normal, the plane shows kd cos 60.
+    OrthographicCamera oblique = top_view(0.f, 0.f, 0.f, 2.f);
+    oblique.direction = {0.f, std::sin(std::numbers::pi_v<float> / 3.f), -0.5f};
+    oblique.position = -oblique.direction * 4.f;
+    oblique.up = {0.f, 0.f, 1.f};
+    CHECK(largest_difference(render(scene.world, params, oblique, size, size, 2), kd * 0.5f) < 1e-5);
   }
   SECTION("a floor under a large ceiling one unit above it") {
     TestWorld scene;
@@ -656,18 +661,18 @@ TEST_CASE("ao: an open plane shows kd * aoIntensity; a ceiling occludes it only 
     const OrthographicCamera between_them = top_view(0.f, 0.f, 0.5f, 2.f);
     params.ao_samples = 4;
     params.ao_distance = 0.5f;  // shorter than the gap: nothing occludes
-    CHECK(largest_difference(render(scene.world, params, between_them, size, size, 2), kd * params.ao_intensity) <
-          1e-5);
+    CHECK(largest_difference(render(scene.world, params, between_them, size, size, 2), kd) < 1e-5);
     params.ao_distance = 1e20f;  // the ceiling hides all but rays within atan(1/50) of the horizon
+    // Fully occluded, what is left is 1 - aoIntensity of the eye light.
     const auto closed = channel_means(render(scene.world, params, between_them, size, size, 2));
-    CHECK(closed[0] < 0.002);
+    CHECK(std::abs(closed[0] - kd.x * (1.f - params.ao_intensity)) < 0.002);
     // Within 2 units only rays steeper than 60 degrees from the normal reach the ceiling:
     // cosine-weighted, the fraction that escapes is 1 - cos^2(60) ... = sin^2 = 1/4.
     params.ao_distance = 2.f;
     params.ao_samples = 16;
     std::vector<double> batch_means;
     for (const Image& b : render_frames(scene.world, params, between_them, size, size, 8)) {
-      batch_means.push_back(channel_means(b)[0] / (kd.x * params.ao_intensity));
+      batch_means.push_back((channel_means(b)[0] / kd.x - (1.f - params.ao_intensity)) / params.ao_intensity);
     }
     const Stats visible = stats(batch_means);
     std::printf("[renderers] ao within 2 units under a ceiling at 1: visible fraction %.5f +- %.5f (closed form 0.25)\n",

@@ -232,7 +232,7 @@ TEST_CASE("texture maps: a checkerboard map_kd on a quad matches the analytic ch
   CHECK(moved < 1e-5);
   CHECK(against_plain > 0.5);
 
-  // The ao renderer shows the same texture: kd times texel times aoIntensity.
+  // The ao renderer shows the same texture: kd times texel, under its eye light head-on.
   AOParams ao;
   ao.materials = params.materials;
   std::get<ObjMaterial>(ao.materials[0]).map_kd.transform = {};

@@ -388,12 +388,10 @@ struct Bsdf {
 
 // ---- Material -> lobes ------------------------------------------------------------------
 
-inline void build(Bsdf& b, const ObjMaterial& m, const ShadingPoint& sp) {
-  Vec3f kd = m.kd * sp.color, ks = m.ks, tf = m.tf;
+inline void build(Bsdf& b, const ObjMaterial& material, const ShadingPoint& sp) {
+  const ObjMaterial m = energy_conserving(material);
+  const Vec3f kd = m.kd * sp.color, ks = m.ks, tf = m.tf;
   const float d = m.d * sp.alpha;
-  // OSPRay-like energy conservation: the three never add up to more than 1 in a channel.
-  const float total = max_component(kd + ks + tf);
-  if (total > 1.f) kd = kd / total, ks = ks / total, tf = tf / total;
   b.add(LobeKind::lambert, kd * d, d * mean(kd));
   b.add(LobeKind::phong, ks * d, d * mean(ks), {}, m.ns);
   const Vec3f through = splat(1.f - d) + tf * d;  // cut-out opacity plus the transmissive filter

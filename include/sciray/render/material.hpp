@@ -232,6 +232,15 @@ inline const Material& textured(const Material& material, const TexCoord<float>&
   return storage;
 }
 
+/// `m` as every renderer shades it: OSPRay's energy conservation scales kd, ks and tf
+/// down together where they add up to more than 1 in a channel.
+inline ObjMaterial energy_conserving(ObjMaterial m) {
+  const Vec3f sum = m.kd + m.ks + m.tf;
+  const float total = std::max({sum.x, sum.y, sum.z});
+  if (total > 1.f) m.kd = m.kd / total, m.ks = m.ks / total, m.tf = m.tf / total;
+  return m;
+}
+
 /// What the scivis and ao renderers see of any material: diffuse and specular colour,
 /// shininess, opacity and transmissive filter.
 inline ObjMaterial obj_view(const Material& material) {
@@ -240,7 +249,7 @@ inline ObjMaterial obj_view(const Material& material) {
         using M = std::decay_t<decltype(m)>;
         ObjMaterial o;
         if constexpr (std::is_same_v<M, ObjMaterial>) {
-          o = m;
+          o = energy_conserving(m);
         } else if constexpr (std::is_same_v<M, PrincipledMaterial>) {
           o.kd = m.base_color * ((1.f - m.metallic) * (1.f - m.transmission));
           o.ks = m.base_color * m.metallic + splat(0.04f * (1.f - m.metallic) * m.specular);

@@ -12,8 +12,10 @@
 // the ray continue, up to `maxPathLength` surfaces; shadows are tinted by them too.
 // Volumes are integrated on the same rays, between surfaces.
 //
-// ao: kd times `aoIntensity` times the unoccluded fraction of `aoSamples` rays, with the
-// same transparency and volumes.
+// ao: OSPRay's ao renderer, an eye light: kd times |n·ω| (the surface as lit from the
+// camera), dimmed by occlusion as `aoIntensity` says — times 1 - aoIntensity + aoIntensity
+// times the unoccluded fraction of `aoSamples` rays (no dimming without samples); other
+// lights play no part. The same transparency and volumes (unlit) as scivis.
 //
 // Shading runs on packets: the lanes of a packet that hit one geometry share a material,
 // and the directional and ambient lights are the same for every lane. A material with
@@ -108,7 +110,6 @@ public:
       else
         direct_lights_.push_back(&l);
     }
-    if constexpr (is_ao) ambient_ = splat(params_.ao_intensity);
     // Only AO rays draw random numbers: every light is sampled at one fixed point.
     needs_random_ = params_.ao_samples > 0;
     const Box3f b = world.bounds();
@@ -322,9 +323,15 @@ private:
     const F offset = simd::max(offset_of(p, t, ray.dir), s.epsilon);
     const Vec3<F> org = p + ng * offset;
 
-    Vec3<F> lit = Vec3<F>(ambient_) * ambient_visibility(org, n, ray.time, lanes, rng);
-    lit = lit * kd;
-    if constexpr (!is_ao) {
+    if constexpr (is_ao) {
+      F dimming(1.f);
+      if (params_.ao_samples > 0 && params_.ao_intensity > 0.01f)  // OSPRay's cut-off
+        dimming = F(1.f - params_.ao_intensity) +
+                  F(params_.ao_intensity) * ambient_visibility(org, n, ray.time, lanes, rng);
+      out.color = kd * (simd::abs(dot(n, normalize(ray.dir))) * dimming * o.d);
+    } else {
+      Vec3<F> lit = Vec3<F>(ambient_) * ambient_visibility(org, n, ray.time, lanes, rng);
+      lit = lit * kd;
       const bool specular = m.ks.x > 0.f || m.ks.y > 0.f || m.ks.z > 0.f;
       // OSPRay's normalized BRDF: Lambertian kd/π, and ks with the Phong exponent ns as a
       // Blinn exponent 4 ns under its energy normalization.
@@ -351,8 +358,8 @@ private:
         if (params_.shadows) arriving = arriving * shadow_transmittance(org, wi, dist, ray.time, lit_lanes, light_volumes_);
         lit = lit + select(lit_lanes, response * arriving, Vec3<F>(splat(0.f)));
       }
+      out.color = lit * o.d;
     }
-    out.color = lit * o.d;
     return out;
   }
 
