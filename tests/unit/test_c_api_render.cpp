@@ -293,6 +293,25 @@ TEST_CASE("map_maxDepth cuts camera rays at the depth of the pixel, for every re
   ospRelease(max_depth);
 }
 
+TEST_CASE("scivis lights from a quad light's centre, as OSPRay 3.1's", "[c_api][renderers]") {
+  ApiFixture api;
+  OSPMaterial material = new_obj(0.5f);
+  FloorScene scene(material);
+  // Side 2 at height 1 straight above the view: one sample at the centre brings radiance x
+  // area x cos / d^2 = 2 x 4 x 1 / 1, as OSPRay 3.1's runtime shows (a sample at the
+  // `position` corner would bring a ninth of it).
+  scene.set_lights({new_quad_light(1.f, 2.f)});
+  OSPRenderer renderer = ospNewRenderer("scivis");
+  ospCommit(renderer);
+  const auto c = scene.render(renderer);
+  // The view covers 0.2 x 0.2: off the centre both cosines and the distance fall as
+  // 1 / (1 + r^2)^2, 0.987 on average over the view.
+  for (int k = 0; k < 3; ++k) CHECK(c[k] == Approx(0.987f * 0.5f / pi * 8.f).epsilon(0.002));
+  CHECK(api.messages.errors.empty());
+  ospRelease(renderer);
+  ospRelease(material);
+}
+
 TEST_CASE("bad lights, materials, textures and renderer parameters are named", "[c_api][renderers][errors]") {
   ApiFixture api;
   CHECK(ospNewLight("photometric") == nullptr);

@@ -566,6 +566,24 @@ TEST_CASE("scivis: transparent surfaces composite over what lies behind them ana
               kd * d * (0.2f + 1.f / std::numbers::pi_v<float>) +
                   pass * floor_kd * (splat(0.2f) + pass / std::numbers::pi_v<float>));
   }
+  SECTION("alpha is 1 minus what passes, also beside lanes of the same packet that go on through the surface") {
+    TestWorld scene;
+    scene.world.add(TriangleMesh(quads({square(5.f, 0.f)})), 0);
+    kernels().commit(scene.world);
+    // The quad's edge x = 5 crosses the view at pixel column 10.8, inside a packet.
+    const OrthographicCamera across_edge = top_view(4.3f, 0.f, 2.f, 4.f);
+    FrameBuffer fb(size, size, ColorFormat::rgba32f);
+    kernels().render(scene.world, params, across_edge, fb, nullptr, FrameSettings{});
+    const float behind_surface = 1.f - (pass.x + pass.y + pass.z) / 3.f;
+    int wrong = 0;
+    for (int y = 0; y < size; ++y)
+      for (int x = 0; x < size; ++x) {
+        const float alpha = fb.color32f()[4 * (y * size + x) + 3];
+        if (x <= 9) wrong += std::abs(alpha - behind_surface) > 1e-5f;
+        if (x >= 11) wrong += alpha != 0.f;
+      }
+    CHECK(wrong == 0);
+  }
 }
 
 TEST_CASE("scivis: a sphere light with a radius is sampled at its centre, as in OSPRay: a hard shadow, and "

@@ -7,7 +7,7 @@
 // other lights with OSPRay's normalized BRDF — Lambertian kd/π plus Blinn-Phong `ks` of
 // exponent 4 `ns` — so that a white surface facing a distant light of irradiance 1 shows
 // 1/π, as in OSPRay and the path tracer; each light is sampled once, where OSPRay's scivis
-// samples it (the centre of a disk, sphere or cone, a quad light's `position` corner),
+// samples it (the centre of a disk, sphere or cone, a quad light's centre),
 // so shadows are hard when `shadows` is set — soft shadows are the path tracer's. Surfaces with opacity `d` < 1 or a transmissive filter `tf` let
 // the ray continue, up to `maxPathLength` surfaces; shadows are tinted by them too.
 // Volumes are integrated on the same rays, between surfaces.
@@ -161,11 +161,12 @@ public:
       Vec3<F> pass(splat(0.f));
       if (simd::any(surfaces)) shade_surfaces(ray, hit, surfaces, rng, color, transmittance, pass, out, depth == 0);
       // Lanes that missed see the background; lanes that hit continue through what the
-      // surface lets pass, while that is worth tracing.
+      // surface lets pass, while that is worth tracing. Lanes done earlier keep their
+      // transmittance: it is their alpha.
       const M missed = live & !hit.hit;
       if (simd::any(missed))
         color = color + select(missed, transmittance * background(ray, missed, index), Vec3<F>(splat(0.f)));
-      transmittance = select(missed, transmittance, transmittance * pass);
+      transmittance = select(surfaces, transmittance * pass, transmittance);
       const F left = simd::max(simd::max(transmittance.x, transmittance.y), transmittance.z);
       live = surfaces & (left > F(params_.min_contribution)) & M(depth + 1 < params_.max_path_length);
       const M stopped = surfaces & !live;
@@ -402,7 +403,10 @@ private:
       if (!simd::lane(lanes, i)) continue;
       const Vec3f pi{simd::lane(p.x, i), simd::lane(p.y, i), simd::lane(p.z, i)};
       const Vec3f ni{simd::lane(n.x, i), simd::lane(n.y, i), simd::lane(n.z, i)};
-      const auto s = sample(light, pi, ni, 0.f, 0.f);  // OSPRay's scivis sample point
+      // OSPRay 3.1's scivis sample point (measured with its runtime): a quad light's
+      // centre; (0, 0), the centre of a disk, sphere or cone, for the others.
+      const float at = std::holds_alternative<QuadLight>(light) ? 0.5f : 0.f;
+      const auto s = sample(light, pi, ni, at, at);
       if (!s) continue;
       any = true;
       const float values[7] = {s->dir.x, s->dir.y, s->dir.z, s->weight.x, s->weight.y, s->weight.z, s->dist};
