@@ -23,21 +23,12 @@ TexCoordTransform Material::map_transform(const std::string& map) const {
     std::memcpy(&v, p.bytes.data(), sizeof v);
     return v;
   };
-  TexCoordTransform transform;
-  if (const Param* p = find(map + ".translation")) {
-    const TexCoord<float> t = vec2(*p, map + ".translation");
-    transform = TexCoordTransform::translate({-t.u, -t.v});
-  }
-  if (const Param* p = find(map + ".scale")) {
-    const TexCoord<float> scale = vec2(*p, map + ".scale");
-    if (!(scale.u != 0.f && scale.v != 0.f))
-      throw Error(name() + ": parameter '" + map + ".scale' must not be zero");
-    transform = transform * TexCoordTransform::about_centre(TexCoordTransform::scale({1.f / scale.u, 1.f / scale.v}));
-  }
-  if (has(map + ".rotation")) {
-    const float degrees = get_float(map + ".rotation", 0.f);
-    transform = transform * TexCoordTransform::about_centre(TexCoordTransform::rotate(-degrees * 3.14159265358979f / 180.f));
-  }
+  TexCoord<float> scale{1.f, 1.f}, translation{0.f, 0.f};
+  if (const Param* p = find(map + ".scale")) scale = vec2(*p, map + ".scale");
+  if (!(scale.u != 0.f && scale.v != 0.f)) throw Error(name() + ": parameter '" + map + ".scale' must not be zero");
+  if (const Param* p = find(map + ".translation")) translation = vec2(*p, map + ".translation");
+  TexCoordTransform transform =
+      TexCoordTransform::of_texture(get_float(map + ".rotation", 0.f), scale, translation);
   if (const Param* p = find(map + ".transform")) {
     TexCoordTransform given;
     if (p->type == OSP_AFFINE2F) {
@@ -262,12 +253,14 @@ void TextureObject::commit_texture2d() {
     throw Error(name() + ": parameter 'data' holds " + type_name(data->element_type()) +
                 " elements but 'format' OSP_TEXTURE_" + layout->format_name + " needs " + type_name(layout->type) +
                 (layout->half_type != OSP_UNKNOWN ? " or " + type_name(layout->half_type) : std::string()));
-  // sciray's textures are RGB: one- and two-channel texels (R, L, RA, LA) give grey from
-  // their first channel, and alpha is not read.
+  // sciray's textures are RGB: as OSPRay's, one- and two-channel texels give red from
+  // their first channel (R, RA) or grey (luminance: L, LA), and alpha is not read.
+  const bool luminance = layout->format_name[0] == 'L';
   std::vector<Vec3f> texels = data->to_vector<Vec3f>([&](const std::byte* e) {
     float c[3];
     for (int k = 0; k < 3; ++k) {
-      const float v = read_channel(e, layout->channel, layout->channels <= 2 ? 0 : k);
+      const bool first_only = layout->channels <= 2;
+      const float v = first_only && k > 0 && !luminance ? 0.f : read_channel(e, layout->channel, first_only ? 0 : k);
       c[k] = layout->srgb ? srgb_to_linear(v) : v;
     }
     return Vec3f{c[0], c[1], c[2]};

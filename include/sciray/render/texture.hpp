@@ -124,6 +124,15 @@ struct TexCoordTransform {
     return translate({0.5f, 0.5f}) * linear * translate({-0.5f, -0.5f});
   }
 
+  /// OSPRay's `<map>.rotation` (degrees), `.scale` and `.translation` composed as OSPRay 3
+  /// composes them: the texture turns counterclockwise and grows about its centre
+  /// (0.5, 0.5), then moves towards +u, +v. The transform maps surface coordinates into
+  /// the texture, so each step is the inverse, and the rotation applies to them first.
+  static TexCoordTransform of_texture(float rotation_degrees, TexCoord<float> scale, TexCoord<float> translation) {
+    return translate({-translation.u, -translation.v}) * about_centre(TexCoordTransform::scale({1.f / scale.u, 1.f / scale.v})) *
+           about_centre(rotate(-rotation_degrees * 3.14159265358979f / 180.f));
+  }
+
   /// How a normal map's tangent-space normals turn with this transform: the inverse (the
   /// transpose) of the rotation closest to its linear part, a reflection kept (OSPRay's
   /// `orthogonal().transposed()`), so that normals follow the texture as it turns on the
