@@ -126,6 +126,7 @@ struct LitQuad {
     OSPInstance instance = ospNewInstance(group);
     ospCommit(instance);
     ospSetFloat(light, "intensity", pi);
+    ospCommit(light);
     set(world, "instance", ospNewSharedData1D(&instance, OSP_INSTANCE, 1));
     set(world, "light", ospNewSharedData1D(&light, OSP_LIGHT, 1));
     ospCommit(world);
