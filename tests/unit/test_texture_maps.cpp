@@ -141,14 +141,14 @@ TEST_CASE("texture coordinates: interpolated on a quad and a triangle as the ana
   std::printf("[texture_maps] texcoord interpolation: worst |error| %.2e over %d hits\n", worst, samples);
   CHECK(worst < 1e-5);
 
-  // Geometry without texcoords reports (0, 0).
+  // A mesh without texcoords reports the hit's own coordinates, as OSPRay.
   MeshData plain = textured_rectangle(-1.f, -0.5f, 2.f, 1.f, 0.f);
   plain.texcoords.clear();
   accel::Hit<simd::scalar> hit;
   hit.hit = true, hit.u = 0.3f, hit.v = 0.4f, hit.ng = {0.f, 0.f, 1.f}, hit.prim_id = 0;
   const SurfaceSample<simd::scalar> s = TriangleMesh(std::move(plain)).surface<simd::scalar>(hit, true);
-  CHECK(s.uv.u == 0.f);
-  CHECK(s.uv.v == 0.f);
+  CHECK(s.uv.u == 0.3f);
+  CHECK(s.uv.v == 0.4f);
 }
 
 TEST_CASE("texture wrap modes: repeat, mirrored repeat and clamp to edge outside 0 to 1", "[texture_maps]") {
@@ -705,7 +705,7 @@ TEST_CASE("C API: bad texcoords and bad maps are named", "[c_api][texture_maps][
   ospSetObject(obj, "map_d", image);
   ospSetFloat(obj, "map_d.transform", 2.f);
   ospCommit(obj);
-  api.expect_error("obj material: parameter 'map_d.transform' must be an affine2f or a linear2f, got float");
+  api.expect_error("obj material: parameter 'map_d.transform' must be a linear2f or an affine2f (an affine3f transforms volume textures only), got float");
   ospRemoveParam(obj, "map_d.transform");
   ospSetVec2f(obj, "map_d.scale", 0.f, 1.f);
   ospCommit(obj);

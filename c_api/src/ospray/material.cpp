@@ -11,6 +11,41 @@
 
 namespace sciray::ospray {
 
+/// A map's `.translation`, `.scale`, `.rotation` (degrees) and `.transform` as OSPRay 3
+/// composes them into one transform of texture coordinates: the texture moves by the
+/// translation, grows by the scale and turns counterclockwise by the rotation about its
+/// centre (0.5, 0.5), and the transform (a linear2f, or an affine2f) applies first.
+TexCoordTransform Material::map_transform(const std::string& map) const {
+  const auto vec2 = [&](const Param& p, const std::string& key) {
+    if (p.type != OSP_VEC2F)
+      throw Error(name() + ": parameter '" + key + "' must be a vec2f, got " + type_name(p.type));
+    TexCoord<float> v;
+    std::memcpy(&v, p.bytes.data(), sizeof v);
+    return v;
+  };
+  TexCoord<float> scale{1.f, 1.f}, translation{0.f, 0.f};
+  if (const Param* p = find(map + ".scale")) scale = vec2(*p, map + ".scale");
+  if (!(scale.u != 0.f && scale.v != 0.f)) throw Error(name() + ": parameter '" + map + ".scale' must not be zero");
+  if (const Param* p = find(map + ".translation")) translation = vec2(*p, map + ".translation");
+  TexCoordTransform transform =
+      TexCoordTransform::of_texture(get_float(map + ".rotation", 0.f), scale, translation);
+  if (const Param* p = find(map + ".transform")) {
+    TexCoordTransform given;
+    if (p->type == OSP_AFFINE2F) {
+      std::memcpy(&given, p->bytes.data(), sizeof given);  // vx, vy, p: as OSPRay's affine2f
+    } else if (p->type == OSP_LINEAR2F || p->type == OSP_VEC4F) {  // vx, vy (vec4f: OSPRay's legacy form)
+      std::memcpy(&given.vx, p->bytes.data(), sizeof given.vx);
+      std::memcpy(&given.vy, p->bytes.data() + sizeof given.vx, sizeof given.vy);
+    } else {
+      throw Error(name() + ": parameter '" + map + ".transform' must be a linear2f or an affine2f (an " +
+                  "affine3f transforms volume textures only), got " + type_name(p->type));
+    }
+    transform = transform * given;
+  }
+  if (!transform.finite()) throw Error(name() + ": parameter '" + map + "': its transform is not finite");
+  return transform;
+}
+
 void Material::on_commit() {
   // The factory creates only types the engine has.
   sciray::Material material = *material_of_type(subtype());
@@ -23,53 +58,72 @@ void Material::on_commit() {
     throw Error(name() + ": " + e.what());
   }
   // Maps: texture2d images for every map of the type; a volume texture as obj map_kd only
-  // (it colours planes: slices). Each map's transform as OSPRay names it.
+  // (it colours planes: slices). Each map's transform as OSPRay names it. As in OSPRay, a
+  // parameter with a map defaults to 1 (the map alone) rather than its own default.
   Ref<TextureObject> volume_map_kd;
+  Affine3f volume_transform;
   std::vector<ImageMap> image_maps;
+  const auto texture_of = [&](const std::string& map) {
+    Ref<TextureObject> texture = get_object<TextureObject>(map, OSP_TEXTURE, false);
+    if (texture && !texture->committed())
+      throw Error(name() + ": parameter '" + map + "': its texture has not been committed");
+    return texture;
+  };
   for_each_map(material, [&](const char* id, TextureMap&) {
     const std::string map = id;
-    Ref<TextureObject> texture = get_object<TextureObject>(map, OSP_TEXTURE, false);
+    Ref<TextureObject> texture = texture_of(map);
     if (!texture) return;
-    if (!texture->committed()) throw Error(name() + ": parameter '" + map + "': its texture has not been committed");
+    const std::string parameter = map.substr(4);  // map_kd: kd
+    if (!has(parameter))
+      for_each_parameter(material, [&](const char* p, auto& field) {
+        using Field = std::remove_reference_t<decltype(field)>;
+        if constexpr (std::is_same_v<Field, Vec3f>) {
+          if (p == parameter) field = splat(1.f);
+        } else if constexpr (std::is_same_v<Field, float>) {
+          if (p == parameter) field = 1.f;
+        }
+      });
     if (texture->is_volume_texture()) {
       if (map != "map_kd")
         throw Error(name() + ": parameter '" + map + "': a volume texture colours only an obj material's map_kd; "
                              "give a texture2d");
+      volume_transform = this->volume_transform(map);
       volume_map_kd = std::move(texture);
       return;
     }
-    const auto vec2 = [&](const std::string& key, TexCoord<float> fallback) {
-      const Param* p = find(key);
-      if (!p) return fallback;
-      if (p->type != OSP_VEC2F) throw Error(name() + ": parameter '" + key + "' must be a vec2f, got " + type_name(p->type));
-      TexCoord<float> v;
-      std::memcpy(&v, p->bytes.data(), sizeof v);
-      return v;
-    };
-    TexCoordTransform transform;
-    if (const Param* p = find(map + ".transform")) {
-      if (p->type == OSP_AFFINE2F) {
-        std::memcpy(&transform, p->bytes.data(), sizeof transform);  // vx, vy, p: as OSPRay's affine2f
-      } else if (p->type == OSP_LINEAR2F) {  // vx, vy: no translation
-        std::memcpy(&transform.vx, p->bytes.data(), sizeof transform.vx);
-        std::memcpy(&transform.vy, p->bytes.data() + sizeof transform.vx, sizeof transform.vy);
-      } else {
-        throw Error(name() + ": parameter '" + map + ".transform' must be an affine2f or a linear2f, got " +
-                    type_name(p->type));
-      }
-    } else if (has(map + ".rotation") || has(map + ".scale") || has(map + ".translation")) {
-      const TexCoord<float> scale = vec2(map + ".scale", {1.f, 1.f});
-      if (!(scale.u != 0.f && scale.v != 0.f))
-        throw Error(name() + ": parameter '" + map + ".scale' must not be zero");
-      transform = TexCoordTransform::of_texture(get_float(map + ".rotation", 0.f), scale,
-                                                vec2(map + ".translation", {0.f, 0.f}));
-    }
-    if (!transform.finite()) throw Error(name() + ": parameter '" + map + "': its transform is not finite");
-    image_maps.push_back({map, std::move(texture), transform});
+    image_maps.push_back({map, std::move(texture), map_transform(map)});
+  });
+  // Normal maps read the texels raw (OSPRay ignores sRGB for normals); formats of one or two
+  // channels leave the normal as it is, as OSPRay's.
+  for_each_normal_map(material, [&](const char* id, NormalMap&) {
+    const std::string map = id;
+    Ref<TextureObject> texture = texture_of(map);
+    if (!texture) return;
+    if (texture->is_volume_texture())
+      throw Error(name() + ": parameter '" + map + "' must be a texture2d (a normal map), got a volume texture");
+    const TexCoordTransform transform = map_transform(map);
+    if (texture->normal_image()) image_maps.push_back({map, std::move(texture), transform});
   });
   material_ = std::move(material);
   volume_map_kd_ = std::move(volume_map_kd);
+  volume_map_transform_ = volume_transform;
   image_maps_ = std::move(image_maps);
+}
+
+Affine3f Material::volume_transform(const std::string& map) const {
+  const Param* p = find(map + ".transform");
+  if (!p) return Affine3f{};
+  if (p->type != OSP_AFFINE3F)
+    throw Error(name() + ": parameter '" + map + ".transform' of a volume texture must be an affine3f, got " +
+                type_name(p->type));
+  if (has(map + ".rotation") || has(map + ".scale") || has(map + ".translation"))
+    throw Error(name() + ": parameters '" + map + ".rotation', '.scale' and '.translation' transform texture2d "
+                         "coordinates; a volume texture takes an affine3f '" + map + ".transform'");
+  Affine3f transform;
+  std::memcpy(&transform, p->bytes.data(), sizeof transform);
+  const auto finite = [](const Vec3f& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); };
+  if (!finite(transform.vx) || !finite(transform.vy) || !finite(transform.vz) || !finite(transform.p)) throw Error(name() + ": parameter '" + map + ".transform' is not finite");
+  return transform;
 }
 
 sciray::Material Material::material() const {
@@ -77,6 +131,10 @@ sciray::Material Material::material() const {
   for_each_map(m, [&](const char* id, TextureMap& map) {
     for (const ImageMap& image : image_maps_)
       if (image.name == id) map = {image.texture->image(), image.transform};
+  });
+  for_each_normal_map(m, [&](const char* id, NormalMap& map) {
+    for (const ImageMap& image : image_maps_)
+      if (image.name == id) map = {{image.texture->normal_image(), image.transform}};
   });
   return m;
 }
@@ -195,16 +253,30 @@ void TextureObject::commit_texture2d() {
     throw Error(name() + ": parameter 'data' holds " + type_name(data->element_type()) +
                 " elements but 'format' OSP_TEXTURE_" + layout->format_name + " needs " + type_name(layout->type) +
                 (layout->half_type != OSP_UNKNOWN ? " or " + type_name(layout->half_type) : std::string()));
-  // sciray's textures are RGB: one- and two-channel texels (R, L, RA, LA) give grey from
-  // their first channel, and alpha is not read.
+  // sciray's textures are RGB: as OSPRay's, one- and two-channel texels give red from
+  // their first channel (R, RA) or grey (luminance: L, LA), and alpha is not read.
+  const bool luminance = layout->format_name[0] == 'L';
   std::vector<Vec3f> texels = data->to_vector<Vec3f>([&](const std::byte* e) {
     float c[3];
     for (int k = 0; k < 3; ++k) {
-      const float v = read_channel(e, layout->channel, layout->channels <= 2 ? 0 : k);
+      const bool first_only = layout->channels <= 2;
+      const float v = first_only && k > 0 && !luminance ? 0.f : read_channel(e, layout->channel, first_only ? 0 : k);
       c[k] = layout->srgb ? srgb_to_linear(v) : v;
     }
     return Vec3f{c[0], c[1], c[2]};
   });
+  // As a normal map: the raw channels, of formats with three or four.
+  std::vector<Vec3f> normal_texels;
+  if (layout->channels >= 3) {
+    const float scale = layout->channel == Channel::unorm8    ? 255.f / 127.f
+                        : layout->channel == Channel::unorm16 ? 65535.f / 32767.f
+                                                              : 2.f;
+    normal_texels = data->to_vector<Vec3f>([&](const std::byte* e) {
+      // Negative channels (float formats) clamp to 0: the texture holds no negative texel.
+      const auto raw = [&](int k) { return std::max(read_channel(e, layout->channel, k), 0.f); };
+      return normal_map_texel({raw(0), raw(1), raw(2)}, scale);
+    });
+  }
   const bool nearest = get_int("filter", OSP_TEXTURE_FILTER_LINEAR) == OSP_TEXTURE_FILTER_NEAREST;
   // `wrapMode`: one OSPTextureWrapMode for both axes, or a vec2ui/vec2i of one per axis.
   int wrap[2] = {OSP_TEXTURE_WRAP_REPEAT, OSP_TEXTURE_WRAP_REPEAT};
@@ -218,10 +290,17 @@ void TextureObject::commit_texture2d() {
       throw Error(name() + ": parameter 'wrapMode' must be OSP_TEXTURE_WRAP_REPEAT (0), _MIRRORED_REPEAT (1) or "
                            "_CLAMP_TO_EDGE (2), got " + std::to_string(m));
   try {
-    auto image = std::make_shared<Texture2D>(static_cast<int>(data->counts()[0]), static_cast<int>(data->counts()[1]),
-                                             std::move(texels), nearest);
-    image->set_wrap(static_cast<TextureWrap>(wrap[0]), static_cast<TextureWrap>(wrap[1]));
+    const auto make = [&](std::vector<Vec3f> values) {
+      auto image = std::make_shared<Texture2D>(static_cast<int>(data->counts()[0]),
+                                               static_cast<int>(data->counts()[1]), std::move(values), nearest);
+      image->set_wrap(static_cast<TextureWrap>(wrap[0]), static_cast<TextureWrap>(wrap[1]));
+      return image;
+    };
+    auto image = make(std::move(texels));
+    std::shared_ptr<const Texture2D> normal_image;
+    if (!normal_texels.empty()) normal_image = make(std::move(normal_texels));
     image_ = std::move(image);
+    normal_image_ = std::move(normal_image);
   } catch (const Error& e) {
     throw Error(name() + ": " + e.what());
   }

@@ -152,6 +152,9 @@ public:
   }
   /// The image of a texture2d (null for a volume texture).
   const std::shared_ptr<const Texture2D>& image() const { return image_; }
+  /// The image as a normal map's texels (normal_map_texel) from the raw channels; null for
+  /// formats of one or two channels, which OSPRay's normal maps ignore.
+  const std::shared_ptr<const Texture2D>& normal_image() const { return normal_image_; }
   /// Also counts the commits of a volume texture's volume and transfer function (or model).
   std::uint64_t version() const override;
 
@@ -164,7 +167,7 @@ private:
   Ref<VolumetricModelObject> model_;  ///< OSPRay 2's form
   Ref<VolumeObject> volume_;          ///< OSPRay 3's form, with transfer_function_
   Ref<TransferFunctionObject> transfer_function_;
-  std::shared_ptr<const Texture2D> image_;
+  std::shared_ptr<const Texture2D> image_, normal_image_;
 };
 
 /// The `kd` an obj material has where none is given (OSPRay's default), which is also
@@ -185,6 +188,8 @@ public:
   sciray::Material with_base_color(const Vec3f& color) const;
   /// `map_kd` where it is a volume texture (whose colour multiplies kd), or null.
   TextureObject* volume_map_kd() const { return volume_map_kd_.get(); }
+  /// Where the volume texture samples a point of the surface (its affine3f `map_kd.transform`).
+  const Affine3f& volume_map_transform() const { return volume_map_transform_; }
   /// Also counts the textures' commits.
   std::uint64_t version() const override;
 
@@ -198,9 +203,12 @@ private:
     Ref<TextureObject> texture;
     TexCoordTransform transform;
   };
+  TexCoordTransform map_transform(const std::string& map) const;
+  Affine3f volume_transform(const std::string& map) const;
 
   sciray::Material material_;  ///< the parameters; maps are filled in by material()
   Ref<TextureObject> volume_map_kd_;
+  Affine3f volume_map_transform_;
   std::vector<ImageMap> image_maps_;
 };
 

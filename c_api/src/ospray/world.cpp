@@ -22,7 +22,8 @@ VolumeSlice model_slice(const GeometricModel& model, const PlaneData& data, std:
         if constexpr (std::is_same_v<std::decay_t<decltype(v)>, std::monostate>)
           throw Error("volume texture: its volume has not been committed");
         else
-          return VolumeSlice(data.planes, data.bounds, v, tf, std::move(colors));
+          return VolumeSlice(data.planes, data.bounds, v, tf, std::move(colors),
+                             model.material()->volume_map_transform());
       },
       texture.sampled_volume()->volume());
 }

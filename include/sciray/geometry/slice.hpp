@@ -27,6 +27,7 @@
 #include "sciray/error.hpp"
 #include "sciray/geometry/boxes.hpp"
 #include "sciray/geometry/surface.hpp"
+#include "sciray/math/affine.hpp"
 #include "sciray/math/box.hpp"
 #include "sciray/volume/transfer_function.hpp"
 
@@ -36,14 +37,16 @@ class VolumeSlice {
 public:
   /// `planes` and `bounds` (empty, or one box per plane) as for Planes; `colors`: r,g,b,a
   /// per plane multiplying the transfer function's colour (a model's colours times its
-  /// material's kd), or empty. Validates the planes ("plane: ..." messages).
+  /// material's kd), or empty. `texture_transform` maps points of the planes to where the
+  /// volume is sampled (OSPRay's affine3f `map_kd.transform` of a volume texture).
+  /// Validates the planes ("plane: ..." messages).
   template <class Volume>
   VolumeSlice(std::vector<Planes::Plane> planes, std::vector<Box3f> bounds, std::shared_ptr<const Volume> volume,
-              TransferFunction transfer_function, std::vector<float> colors = {})
+              TransferFunction transfer_function, std::vector<float> colors = {}, Affine3f texture_transform = {})
       : planes_(planes, std::move(bounds), std::move(colors)) {
     if (!volume) throw Error("slice: the volume is missing");
     planes_.validate();
-    auto data = std::make_shared<Data>(Data{volume, nullptr, std::move(transfer_function), {}});
+    auto data = std::make_shared<Data>(Data{volume, nullptr, std::move(transfer_function), {}, texture_transform});
     data->sample = [](const void* v, const Vec3f& p) {
       return static_cast<const Volume*>(v)->template sample<simd::scalar>(p);
     };
@@ -94,7 +97,7 @@ public:
       if (!simd::lane(lanes, i)) continue;
       const Frame& f = data_->frames[static_cast<std::size_t>(simd::lane(hit.prim_id, i))];
       const Vec3f p = f.origin + f.e1 * simd::lane(hit.u, i) + f.e2 * simd::lane(hit.v, i);
-      values[i] = data_->sample(data_->volume.get(), p);
+      values[i] = data_->sample(data_->volume.get(), data_->texture_transform.point(p));
     }
     const Vec3<F> color = data_->tf.template color<Arch>(simd::load<Arch>(values));
     s.color = select(s.has_color, s.color * color, color);
@@ -131,6 +134,7 @@ private:
     float (*sample)(const void*, const Vec3f&);
     TransferFunction tf;
     std::vector<Frame> frames;
+    Affine3f texture_transform;
   };
 
   Planes planes_;

@@ -171,6 +171,8 @@ public:
     if (!a.texcoords.empty()) {
       const auto uv = interpolate<Arch, 2>(a.texcoords, corners);
       s.uv = {uv[0], uv[1]};
+    } else {
+      s.uv = {hit.u, hit.v};  // OSPRay's texture coordinates without any: the hit's own
     }
     if (!a.normals.empty()) {
       const auto n = interpolate<Arch, 3>(a.normals, corners);
@@ -198,6 +200,46 @@ public:
     }
     if (material_color_) s.color = s.color * Vec3<F>(*material_color_);
     return s;
+  }
+
+  /// The derivatives dP/ds and dP/dt of position along the texture coordinates at the
+  /// hits of `lanes` (object space, one per face), which orient normal maps: solved from
+  /// a triangle's corners (a quad's first, second and last), as OSPRay does; where the
+  /// mesh has no texture coordinates or they degenerate, the face's edges from its first
+  /// corner to the second and to the last.
+  template <class Arch>
+  std::array<Vec3<simd::Float<Arch>>, 2> texture_derivatives(const accel::Hit<Arch>& hit,
+                                                             const simd::Mask<Arch>& lanes) const {
+    using F = simd::Float<Arch>;
+    using I = simd::Int<Arch>;
+    const auto& a = arrays_;
+    const I prim = simd::select(lanes, hit.prim_id, I(0));
+    const auto* index = reinterpret_cast<const std::int32_t*>(a.indices.base);
+    const I face = prim * I(static_cast<std::int32_t>(a.indices.byte_stride / sizeof(std::uint32_t)));
+    const I last = face + I(a.vertices_per_face == 4 ? 3 : 2);
+    const std::array<I, 3> corner{simd::gather<Arch>(index, face), simd::gather<Arch>(index, face + I(1)),
+                                  simd::gather<Arch>(index, last)};
+    const auto read = [&](const StridedView<float>& view, const I& vertex, int k) {
+      return simd::gather<Arch>(view.data(), vertex * I(static_cast<std::int32_t>(view.byte_stride / sizeof(float))) + I(k));
+    };
+    std::array<Vec3<F>, 3> p;
+    for (int j = 0; j < 3; ++j) {
+      const I& v = corner[static_cast<std::size_t>(j)];
+      p[static_cast<std::size_t>(j)] = {read(a.positions, v, 0), read(a.positions, v, 1), read(a.positions, v, 2)};
+    }
+    Vec3<F> dpds = p[1] - p[0], dpdt = p[2] - p[0];
+    if (a.texcoords.empty()) return {dpds, dpdt};
+    const auto st = [&](int j, int k) { return read(a.texcoords, corner[static_cast<std::size_t>(j)], k); };
+    // Edges towards the last corner, in texture space and in space.
+    const F ds02 = st(0, 0) - st(2, 0), dt02 = st(0, 1) - st(2, 1);
+    const F ds12 = st(1, 0) - st(2, 0), dt12 = st(1, 1) - st(2, 1);
+    const Vec3<F> dp02 = p[0] - p[2], dp12 = p[1] - p[2];
+    const F det = ds02 * dt12 - dt02 * ds12;
+    const auto solvable = det != F(0.f);
+    const F inv = F(1.f) / simd::select(solvable, det, F(1.f));
+    dpds = select(solvable, (dp02 * dt12 - dp12 * dt02) * inv, dpds);
+    dpdt = select(solvable, (dp12 * ds02 - dp02 * ds12) * inv, dpdt);
+    return {dpds, dpdt};
   }
 
 private:

@@ -80,6 +80,9 @@ struct SurfacePoint {
   bool has_color;
   std::uint32_t material;  ///< index into RendererParams::materials
   TexCoord<float> uv;      ///< texture coordinates, for the material's maps (textured())
+  /// Position's derivatives along the texture coordinates, which orient normal maps
+  /// (mapped_normal); filled only for materials with one (for_each_surface).
+  Vec3f dpds{1.f, 0.f, 0.f}, dpdt{0.f, 1.f, 0.f};
 };
 
 namespace detail {
@@ -146,17 +149,55 @@ void for_each_material(const WorldT& world, std::uint32_t inst, std::uint32_t ge
   }
 }
 
+/// The derivatives of position along the texture coordinates at the hits of `lanes` on
+/// `geometry`, in world space: a mesh's (TriangleMesh::texture_derivatives), or as OSPRay
+/// (1, 0, 0) and (0, 1, 0) in the geometry's own space for others.
+template <class Arch, class Geometry>
+std::array<Vec3<simd::Float<Arch>>, 2> texture_derivatives(const Geometry& geometry, const accel::Hit<Arch>& hit,
+                                                           const simd::Mask<Arch>& lanes,
+                                                           const MotionTransform* placement,
+                                                           const simd::Float<Arch>& time) {
+  using Fl = simd::Float<Arch>;
+  std::array<Vec3<Fl>, 2> d{Vec3<Fl>{Fl(1.f), Fl(0.f), Fl(0.f)}, Vec3<Fl>{Fl(0.f), Fl(1.f), Fl(0.f)}};
+  if constexpr (requires { geometry.template texture_derivatives<Arch>(hit, lanes); })
+    d = geometry.template texture_derivatives<Arch>(hit, lanes);
+  if (!placement) return d;
+  constexpr int W = simd::width<Arch>;
+  alignas(64) float out[6][W];
+  for (int i = 0; i < W; ++i) {
+    const Affine3f x = placement->at(simd::lane(time, i));
+    for (int k = 0; k < 2; ++k) {
+      const Vec3<Fl>& v = d[static_cast<std::size_t>(k)];
+      const Vec3f placed = x.vector({simd::lane(v.x, i), simd::lane(v.y, i), simd::lane(v.z, i)});
+      out[3 * k][i] = placed.x, out[3 * k + 1][i] = placed.y, out[3 * k + 2][i] = placed.z;
+    }
+  }
+  for (int k = 0; k < 2; ++k)
+    d[static_cast<std::size_t>(k)] = {simd::load<Arch>(out[3 * k]), simd::load<Arch>(out[3 * k + 1]),
+                                      simd::load<Arch>(out[3 * k + 2])};
+  return d;
+}
+
 /// Calls f(lane, SurfacePoint) for every lane of `mask` that `hit` hit, resolving each
-/// (instance, geometry) group of lanes once, as a packet.
+/// (instance, geometry) group of lanes once, as a packet. `normal_mapped` (per material
+/// index): whose surfaces need SurfacePoint::dpds and dpdt.
 template <class Arch, class WorldT, class F>
 void for_each_surface(const WorldT& world, const Ray<simd::Float<Arch>>& ray, const accel::Hit<Arch>& hit,
-                      const simd::Mask<Arch>& mask, F&& f) {
+                      const simd::Mask<Arch>& mask, F&& f, const std::vector<bool>* normal_mapped = nullptr) {
   using Fl = simd::Float<Arch>;
   for_each_hit_group<Arch>(hit, mask, [&](const simd::Mask<Arch>& lanes, std::uint32_t inst, std::uint32_t geom) {
     const std::vector<std::uint32_t>* per_primitive = primitive_materials(world, inst, geom);
     const std::uint32_t material = world.material_of(inst, geom);
+    const auto lane_material = [&](int i) {
+      return per_primitive ? primitive_material(*per_primitive, simd::lane(hit.prim_id, i)) : material;
+    };
+    bool derivatives = false;
+    for (int i = 0; normal_mapped && i < simd::width<Arch>; ++i)
+      if (simd::lane(lanes, i) && lane_material(i) != no_material) derivatives |= (*normal_mapped)[lane_material(i)];
     world.visit_hit(inst, geom, [&](const auto& geometry, const MotionTransform* placement) {
       auto surface = geometry.template surface<Arch>(hit, lanes);
+      std::array<Vec3<Fl>, 2> d;
+      if (derivatives) d = texture_derivatives<Arch>(geometry, hit, lanes, placement, ray.time);
       Vec3<Fl> ng = hit.ng;
       if (placement)
         surface.normal = placement->normal(surface.normal, ray.time), ng = placement->normal(ng, ray.time);
@@ -180,8 +221,12 @@ void for_each_surface(const WorldT& world, const Ray<simd::Float<Arch>>& ray, co
                                       simd::lane(surface.color.z, i)}
                               : splat(1.f);
         s.alpha = s.has_color ? simd::lane(surface.alpha, i) : 1.f;
-        s.material = per_primitive ? primitive_material(*per_primitive, simd::lane(hit.prim_id, i)) : material;
+        s.material = lane_material(i);
         s.uv = {simd::lane(surface.uv.u, i), simd::lane(surface.uv.v, i)};
+        if (derivatives) {
+          s.dpds = {simd::lane(d[0].x, i), simd::lane(d[0].y, i), simd::lane(d[0].z, i)};
+          s.dpdt = {simd::lane(d[1].x, i), simd::lane(d[1].y, i), simd::lane(d[1].z, i)};
+        }
         f(i, s);
       }
     });

@@ -31,6 +31,7 @@ struct ObjMaterial {
   float d = 1.f;
   Vec3f tf{0.f, 0.f, 0.f};
   TextureMap map_kd{}, map_ks{}, map_ns{}, map_d{};
+  NormalMap map_bump{};  ///< a normal map, as OSPRay's obj material reads map_bump
 };
 
 /// OSPRay `principled`: a layered physically based material (Disney/Burley style).
@@ -58,7 +59,9 @@ struct PrincipledMaterial {
   float sheen_roughness = 0.2f;
   float opacity = 1.f;
   Vec3f emissive_color{0.f, 0.f, 0.f};  ///< emissiveColor (radiance)
+  float normal = 1.f;                   ///< how strongly map_normal tilts the normal
   TextureMap map_base_color{}, map_roughness{}, map_metallic{}, map_opacity{};  ///< map_baseColor, ...
+  NormalMap map_normal{};
 };
 
 /// OSPRay `glass`: a dielectric interface; light inside is attenuated to
@@ -141,7 +144,7 @@ void parameters_of(M& m, Read&& read) {
     read("coatColor", m.coat_color), read("coatThickness", m.coat_thickness);
     read("coatRoughness", m.coat_roughness), read("sheen", m.sheen), read("sheenColor", m.sheen_color);
     read("sheenTint", m.sheen_tint), read("sheenRoughness", m.sheen_roughness), read("opacity", m.opacity);
-    read("emissiveColor", m.emissive_color);
+    read("emissiveColor", m.emissive_color), read("normal", m.normal);
   } else if constexpr (std::is_same_v<T, GlassMaterial> || std::is_same_v<T, ThinGlassMaterial>) {
     read("eta", m.eta), read("attenuationColor", m.attenuation_color);
     read("attenuationDistance", m.attenuation_distance);
@@ -166,7 +169,60 @@ void maps_of(M& m, Map&& map) {
     map("map_metallic", m.map_metallic), map("map_opacity", m.map_opacity);
   }
 }
+
+/// The normal map of one material type and the scale of its x and y, or null.
+template <class M>
+auto* normal_map_of(M& m, float* scale = nullptr) {
+  using T = std::remove_const_t<M>;
+  using Result = std::conditional_t<std::is_const_v<M>, const NormalMap*, NormalMap*>;
+  if (scale) *scale = 1.f;
+  if constexpr (std::is_same_v<T, ObjMaterial>) {
+    return Result(&m.map_bump);
+  } else if constexpr (std::is_same_v<T, PrincipledMaterial>) {
+    if (scale) *scale = m.normal;
+    return Result(&m.map_normal);
+  } else {
+    return Result(nullptr);
+  }
+}
 }  // namespace detail
+
+/// Calls map(name, NormalMap&) for the normal map `material`'s type has, under its OSPRay
+/// name (obj: map_bump; principled: map_normal; other types have none).
+template <class Map>
+void for_each_normal_map(Material& material, Map&& map) {
+  std::visit(
+      [&](auto& m) {
+        using M = std::decay_t<decltype(m)>;
+        if constexpr (std::is_same_v<M, ObjMaterial>) map("map_bump", m.map_bump);
+        if constexpr (std::is_same_v<M, PrincipledMaterial>) map("map_normal", m.map_normal);
+      },
+      material);
+}
+
+/// Whether `material` has a normal map: its shading needs the surface's texture derivatives.
+inline bool has_normal_map(const Material& material) {
+  return std::visit(
+      [](const auto& m) {
+        const NormalMap* map = detail::normal_map_of(m);
+        return map && bool(*map);
+      },
+      material);
+}
+
+/// The shading normal `n` (unit, on the viewer's side) as `material`'s normal map tilts it
+/// at texture coordinates uv, in the frame of the surface's texture derivatives dpds and
+/// dpdt; n where the material has no normal map.
+inline Vec3f mapped_normal(const Material& material, const Vec3f& n, const Vec3f& dpds, const Vec3f& dpdt,
+                           const TexCoord<float>& uv) {
+  return std::visit(
+      [&](const auto& m) {
+        float scale;
+        const NormalMap* map = detail::normal_map_of(m, &scale);
+        return map && *map ? map->perturb(n, dpds, dpdt, uv, scale) : n;
+      },
+      material);
+}
 
 /// Calls read(name, field) for every parameter of `material` under its OSPRay name
 /// (field: float&, bool& or Vec3f&): the one table the C API and scene files both read.
@@ -331,6 +387,7 @@ inline void validate(const Material& material) {
           require(in_unit(m.sheen_roughness), type, "sheenRoughness", "must be in [0, 1]");
           require(in_unit(m.opacity), type, "opacity", "must be in [0, 1]");
           require(finite_non_negative(m.emissive_color), type, "emissiveColor", "must be finite and not negative");
+          require(std::isfinite(m.normal), type, "normal", "must be finite");
         } else if constexpr (std::is_same_v<M, GlassMaterial> || std::is_same_v<M, ThinGlassMaterial>) {
           require(positive(m.eta), type, "eta", "must be positive");
           require(finite_non_negative(m.attenuation_color), type, "attenuationColor", "must be finite and not negative");
@@ -354,6 +411,9 @@ inline void validate(const Material& material) {
         detail::maps_of(m, [&](const char* name, const TextureMap& map) {
           require(map.transform.finite(), type, name, "has a transform that is not finite");
         });
+        if (const NormalMap* normals = detail::normal_map_of(m))
+          require(normals->map.transform.finite(), type, type == "obj" ? "map_bump" : "map_normal",
+                  "has a transform that is not finite");
       },
       material);
 }

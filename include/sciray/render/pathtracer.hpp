@@ -59,6 +59,7 @@ public:
     if (!(params_.max_contribution > 0.f)) throw Error("pathtracer renderer: parameter 'maxContribution' must be positive");
     const Box3f b = world.bounds();
     scene_size_ = b.empty() ? 1.f : length(b.size());
+    for (const Material& m : params_.materials) normal_mapped_.push_back(has_normal_map(m));
   }
 
   PixelSample<Arch> render(const Ray<F>& camera_ray, const M& active, const SampleIndex<Arch>& index = {}) const {
@@ -110,10 +111,13 @@ public:
           if (depth == 0) camera_volume_alpha(path, ray, live, t_event);
           in_medium = collide_with_volumes(path, ray, live, t_event, vertex);
         }
-      detail::for_each_surface<Arch>(*world_, ray, hit, live & !in_medium, [&](int i, const SurfacePoint& s) {
-        vertex[i].kind = Vertex::Kind::surface;
-        vertex[i].surface = s;
-      });
+      detail::for_each_surface<Arch>(
+          *world_, ray, hit, live & !in_medium,
+          [&](int i, const SurfacePoint& s) {
+            vertex[i].kind = Vertex::Kind::surface;
+            vertex[i].surface = s;
+          },
+          &normal_mapped_);
 
       // Light found by the BSDF-sampled ray (or seen by the camera), and emission.
       for (int i = 0; i < W; ++i) {
@@ -140,7 +144,10 @@ public:
           continue;
         }
         const SurfacePoint& s = v.surface;
-        p.sp = {s.n, s.ng, s.front, s.color, s.alpha};
+        const Vec3f n = s.material != no_material && normal_mapped_[s.material]
+                            ? mapped_normal(material(s), s.n, s.dpds, s.dpdt, s.uv)
+                            : s.n;
+        p.sp = {n, s.ng, s.front, s.color, s.alpha};
         p.p = s.p;
         p.material = &textured(material(s), s.uv, p.textured_material);
         const Material& m = *p.material;
@@ -410,6 +417,7 @@ private:
   PathTracerParams params_;
   detail::VolumeOverlap volume_overlap_;  ///< for the camera ray's volume alpha
   float scene_size_ = 1.f;
+  std::vector<bool> normal_mapped_;  ///< per material: has a normal map
 };
 
 }  // namespace sciray

@@ -97,6 +97,7 @@ public:
       surfaces_.push_back(obj_view(m));
       luminous_.push_back(std::holds_alternative<LuminousMaterial>(m));
       textured_.push_back(has_maps(m));
+      normal_mapped_.push_back(has_normal_map(m));
       opacity_mapped_.push_back(opacity_mapped(m));
       const ObjMaterial& o = surfaces_.back();
       if (o.d < 1.f || o.tf.x > 0.f || o.tf.y > 0.f || o.tf.z > 0.f || opacity_mapped_.back()) any_transparent_ = true;
@@ -243,7 +244,11 @@ private:
         if (placement)
           surface.normal = normalize(placement->normal(surface.normal, ray.time)), ng = placement->normal(ng, ray.time);
         for_each_material<Arch>(*world_, inst, geom, hit, lanes, [&](const M& group, std::uint32_t material) {
-          const Shaded shaded = shade(ray, hit.t, surface, normalize(ng), group, material, rng);
+          std::array<Vec3<F>, 2> derivatives;
+          const bool mapped = material != no_material && normal_mapped_[material];
+          if (mapped) derivatives = texture_derivatives<Arch>(geometry, hit, group, placement, ray.time);
+          const Shaded shaded =
+              shade(ray, hit.t, surface, normalize(ng), group, material, rng, mapped ? &derivatives : nullptr);
           color = color + select(group, transmittance * shaded.color, Vec3<F>(splat(0.f)));
           pass = select(group, shaded.pass, pass);
           if (first) {
@@ -290,15 +295,30 @@ private:
     return {load3(0), load3(3), load3(6), simd::load<Arch>(v[9]), simd::load<Arch>(v[10])};
   }
 
+  /// The shading normals `n` of `lanes` as `material`'s normal map tilts them.
+  static Vec3<F> mapped_normals(const Vec3<F>& n, const std::array<Vec3<F>, 2>& d, const TexCoord<F>& uv,
+                                const M& lanes, const Material& material) {
+    alignas(64) float out[3][W];
+    for (int i = 0; i < W; ++i) {
+      const auto lane = [&](const Vec3<F>& v) { return Vec3f{simd::lane(v.x, i), simd::lane(v.y, i), simd::lane(v.z, i)}; };
+      Vec3f m = lane(n);
+      if (simd::lane(lanes, i))
+        m = mapped_normal(material, m, lane(d[0]), lane(d[1]), {simd::lane(uv.u, i), simd::lane(uv.v, i)});
+      out[0][i] = m.x, out[1][i] = m.y, out[2][i] = m.z;
+    }
+    return {simd::load<Arch>(out[0]), simd::load<Arch>(out[1]), simd::load<Arch>(out[2])};
+  }
+
   /// What a surface of opacity d and transmissive filter tf lets pass.
   static Vec3<F> passing(const ObjLanes& o) {
     const F opaque = F(1.f) - o.d;
     return Vec3<F>{opaque, opaque, opaque} + o.tf * o.d;
   }
 
+  /// `derivatives`: the surface's dP/ds and dP/dt, for a material with a normal map.
   template <class Surface>
   Shaded shade(const Ray<F>& ray, const F& t, const Surface& s, const Vec3<F>& ng_raw, const M& lanes,
-               std::uint32_t material, PixelRandom* rng) const {
+               std::uint32_t material, PixelRandom* rng, const std::array<Vec3<F>, 2>* derivatives = nullptr) const {
     static const ObjMaterial default_surface;
     const bool has_material = material != no_material;
     const ObjMaterial& m = has_material ? surfaces_[material] : default_surface;
@@ -307,7 +327,8 @@ private:
     // Both sides of a surface are lit: the geometric normal faces the viewer and, as in
     // OSPRay, the shading normal lies on its side.
     const Vec3<F> ng = select(dot(ng_raw, ray.dir) >= F(0.f), -ng_raw, ng_raw);
-    const Vec3<F> n = select(dot(s.normal, ng) < F(0.f), -s.normal, s.normal);
+    Vec3<F> n = select(dot(s.normal, ng) < F(0.f), -s.normal, s.normal);
+    if (derivatives) n = mapped_normals(n, *derivatives, s.uv, lanes, params_.materials[material]);
     // Without a material, a geometry shows its own colours (the default kd where none).
     const Vec3<F> geometry_color = select(s.has_color, s.color, Vec3<F>(has_material ? splat(1.f) : m.kd));
     const Vec3<F> kd = has_material ? geometry_color * o.kd : geometry_color;
@@ -520,6 +541,7 @@ private:
   std::vector<ObjMaterial> surfaces_;
   std::vector<bool> luminous_;
   std::vector<bool> textured_;        ///< per material: has maps
+  std::vector<bool> normal_mapped_;   ///< per material: has a normal map
   std::vector<bool> opacity_mapped_;  ///< per material: a map changes its opacity
   bool any_transparent_ = false;
   bool needs_random_ = false;

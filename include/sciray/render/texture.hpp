@@ -100,24 +100,52 @@ struct TexCoordTransform {
   TexCoord<float> operator()(const TexCoord<float>& uv) const {
     return {vx.u * uv.u + vy.u * uv.v + p.u, vx.v * uv.u + vy.v * uv.v + p.v};
   }
+  /// This transform after `first`.
+  TexCoordTransform operator*(const TexCoordTransform& first) const {
+    const auto linear = [&](const TexCoord<float>& v) -> TexCoord<float> {
+      return {vx.u * v.u + vy.u * v.v, vx.v * v.u + vy.v * v.v};
+    };
+    return {linear(first.vx), linear(first.vy), (*this)(first.p)};
+  }
   bool finite() const {
     return std::isfinite(vx.u) && std::isfinite(vx.v) && std::isfinite(vy.u) && std::isfinite(vy.v) &&
            std::isfinite(p.u) && std::isfinite(p.v);
   }
 
-  /// OSPRay's `<map>.rotation` (degrees, counterclockwise), `.scale` (enlarges) and
-  /// `.translation` (moves towards +u, +v) of the texture about its centre (0.5, 0.5),
-  /// applied in that order; the transform maps surface coordinates into the texture, so
-  /// it is their inverse.
+  static TexCoordTransform translate(TexCoord<float> by) { return {{1.f, 0.f}, {0.f, 1.f}, by}; }
+  static TexCoordTransform scale(TexCoord<float> by) { return {{by.u, 0.f}, {0.f, by.v}, {0.f, 0.f}}; }
+  /// Counterclockwise by `radians`.
+  static TexCoordTransform rotate(float radians) {
+    const float c = std::cos(radians), s = std::sin(radians);
+    return {{c, s}, {-s, c}, {0.f, 0.f}};
+  }
+  /// `linear` about the texture's centre (0.5, 0.5).
+  static TexCoordTransform about_centre(const TexCoordTransform& linear) {
+    return translate({0.5f, 0.5f}) * linear * translate({-0.5f, -0.5f});
+  }
+
+  /// OSPRay's `<map>.rotation` (degrees), `.scale` and `.translation` composed as OSPRay 3
+  /// composes them: the texture turns counterclockwise and grows about its centre
+  /// (0.5, 0.5), then moves towards +u, +v. The transform maps surface coordinates into
+  /// the texture, so each step is the inverse, and the rotation applies to them first.
   static TexCoordTransform of_texture(float rotation_degrees, TexCoord<float> scale, TexCoord<float> translation) {
-    const float a = -rotation_degrees * 3.14159265358979f / 180.f, c = std::cos(a), s = std::sin(a);
-    // uv' = 0.5 + R(-a) S^-1 (uv - translation - 0.5)
-    TexCoordTransform t;
-    t.vx = {c / scale.u, s / scale.u};
-    t.vy = {-s / scale.v, c / scale.v};
-    const TexCoord<float> shift{-translation.u - 0.5f, -translation.v - 0.5f};
-    t.p = {t.vx.u * shift.u + t.vy.u * shift.v + 0.5f, t.vx.v * shift.u + t.vy.v * shift.v + 0.5f};
-    return t;
+    return translate({-translation.u, -translation.v}) * about_centre(TexCoordTransform::scale({1.f / scale.u, 1.f / scale.v})) *
+           about_centre(rotate(-rotation_degrees * 3.14159265358979f / 180.f));
+  }
+
+  /// How a normal map's tangent-space normals turn with this transform: the inverse (the
+  /// transpose) of the rotation closest to its linear part, a reflection kept (OSPRay's
+  /// `orthogonal().transposed()`), so that normals follow the texture as it turns on the
+  /// surface. In 2D the closest rotation has a closed form: the angle atan2(c - b, a + d)
+  /// of the matrix [a b; c d].
+  TexCoordTransform normal_rotation() const {
+    TexCoord<float> x = vx;
+    const bool mirrored = vx.u * vy.v - vy.u * vx.v < 0.f;
+    if (mirrored) x = {-x.u, -x.v};
+    const float angle = std::atan2(x.v - vy.u, x.u + vy.v);
+    TexCoordTransform r = rotate(angle);
+    if (mirrored) r.vx = {-r.vx.u, -r.vx.v};
+    return {{r.vx.u, r.vy.u}, {r.vx.v, r.vy.v}, {0.f, 0.f}};  // transposed
   }
 };
 
@@ -134,5 +162,41 @@ struct TextureMap {
     return texture->sample_tiled(t.u, t.v);
   }
 };
+
+/// A normal map (OSPRay's obj `map_bump`, principled `map_normal`): its texels hold
+/// tangent-space normals n encoded as (n + 1) / 2 (see normal_map_texel), x along the
+/// surface's dP/ds, y along dP/dt, z along the shading normal. Empty where the material
+/// has none.
+struct NormalMap {
+  TextureMap map;
+
+  explicit operator bool() const { return bool(map); }
+  /// The tangent-space normal at surface coordinates uv, x and y times `scale` (principled's
+  /// `normal`) and turned with the map's transform; not normalized, as OSPRay's.
+  Vec3f at(const TexCoord<float>& uv, float scale = 1.f) const {
+    const Vec3f e = map.at(uv);
+    const TexCoord<float> xy = map.transform.normal_rotation()({(2.f * e.x - 1.f) * scale, (2.f * e.y - 1.f) * scale});
+    return {xy.u, xy.v, 2.f * e.z - 1.f};
+  }
+  /// The shading normal `n` (unit, on the viewer's side) tilted by the map in the frame of
+  /// the surface's texture derivatives dpds, dpdt (OSPRay's makeShadingFrame); n itself
+  /// where that frame degenerates.
+  Vec3f perturb(const Vec3f& n, const Vec3f& dpds, const Vec3f& dpdt, const TexCoord<float>& uv,
+                float scale = 1.f) const {
+    const Vec3f local = at(uv, scale);
+    const float ls = length(dpds), lt = length(dpdt);
+    if (!(ls > 0.f) || !(lt > 0.f)) return n;
+    const Vec3f tilted = dpds * (local.x / ls) + dpdt * (local.y / lt) + n * local.z;
+    const float l = length(tilted);
+    return l > 0.f && std::isfinite(l) ? tilted / l : n;
+  }
+};
+
+/// A normal map's texels from raw channel values in [0, 1] (before any sRGB decoding,
+/// which OSPRay ignores for normals): OSPRay decodes v * scale - 1, with scale 255/127
+/// for 8-bit and 65535/32767 for 16-bit channels (so that 127 and 32767 are 0) and 2 for
+/// floating point ones; stored here as (v * scale) / 2, so that NormalMap::at's 2e - 1
+/// gives the same.
+inline Vec3f normal_map_texel(const Vec3f& raw, float scale) { return raw * (0.5f * scale); }
 
 }  // namespace sciray
