@@ -58,26 +58,17 @@ public:
   };
 
   /// The placed volumes that some active lane of the world rays `ray` passes within
-  /// [tnear, min(tfar, t_end)], in the order they were added. Empty-space skipping's first
-  /// step: volumes no ray passes cost one box test.
+  /// [tnear, min(tfar, t_end)], in the order they were added.
   template <class Arch>
   std::vector<Along<Arch>> volumes_along(const Ray<simd::Float<Arch>>& ray, const simd::Mask<Arch>& active,
                                          const simd::Float<Arch>& t_end) const {
     using Fl = simd::Float<Arch>;
     std::vector<Along<Arch>> out;
-    const Vec3<Fl> inv{Fl(1.f) / ray.dir.x, Fl(1.f) / ray.dir.y, Fl(1.f) / ray.dir.z};
-    const Fl reach = simd::min(ray.tfar, t_end);
-    for (std::uint32_t i = 0; i < placements_.size(); ++i) {
-      const Box3f& b = placements_[i].bounds;
-      const Vec3<Fl> t0 = (Vec3<Fl>(b.lower) - ray.org) * inv, t1 = (Vec3<Fl>(b.upper) - ray.org) * inv;
-      const Vec3<Fl> near = min(t0, t1), far = max(t0, t1);
-      const Fl enter = simd::max(simd::max(simd::max(near.x, near.y), near.z), ray.tnear);
-      const Fl leave = simd::min(simd::min(simd::min(far.x, far.y), far.z), reach);
-      const auto passing = active & (enter <= leave);
-      if (simd::any(passing))
-        out.push_back({i, simd::select(passing, enter, Fl(INFINITY)), simd::select(passing, leave, Fl(-INFINITY)),
-                       placements_[i].step});
-    }
+    for_each_passed<Arch>(ray, active, t_end, [&](std::uint32_t i, const simd::Mask<Arch>& passing, const Fl& enter,
+                                                  const Fl& leave) {
+      out.push_back({i, simd::select(passing, enter, Fl(INFINITY)), simd::select(passing, leave, Fl(-INFINITY)),
+                     placements_[i].step});
+    });
     return out;
   }
 
@@ -95,8 +86,11 @@ public:
   template <class Arch, class F>
   void for_each_volume_along(const Ray<simd::Float<Arch>>& ray, const simd::Mask<Arch>& active,
                              const simd::Float<Arch>& t_end, F&& f) const {
-    for (const Along<Arch>& a : volumes_along<Arch>(ray, active, t_end))
-      with_volume<Arch>(a.volume, ray, active & (a.enter <= a.leave), f);
+    using Fl = simd::Float<Arch>;
+    for_each_passed<Arch>(ray, active, t_end,
+                          [&](std::uint32_t i, const simd::Mask<Arch>& passing, const Fl&, const Fl&) {
+                            with_volume<Arch>(i, ray, passing, f);
+                          });
   }
 
   /// Surfaces' and placed volumes' bounds.
@@ -121,6 +115,26 @@ public:
   }
 
 private:
+  /// Calls f(index, passing, enter, leave) for every placed volume whose world box some
+  /// active lane passes within [tnear, min(tfar, t_end)]: empty-space skipping's first
+  /// step, where volumes no ray passes cost one box test.
+  template <class Arch, class F>
+  void for_each_passed(const Ray<simd::Float<Arch>>& ray, const simd::Mask<Arch>& active,
+                       const simd::Float<Arch>& t_end, F&& f) const {
+    using Fl = simd::Float<Arch>;
+    const Vec3<Fl> inv{Fl(1.f) / ray.dir.x, Fl(1.f) / ray.dir.y, Fl(1.f) / ray.dir.z};
+    const Fl reach = simd::min(ray.tfar, t_end);
+    for (std::uint32_t i = 0; i < placements_.size(); ++i) {
+      const Box3f& b = placements_[i].bounds;
+      const Vec3<Fl> t0 = (Vec3<Fl>(b.lower) - ray.org) * inv, t1 = (Vec3<Fl>(b.upper) - ray.org) * inv;
+      const Vec3<Fl> near = min(t0, t1), far = max(t0, t1);
+      const Fl enter = simd::max(simd::max(simd::max(near.x, near.y), near.z), ray.tnear);
+      const Fl leave = simd::min(simd::min(simd::min(far.x, far.y), far.z), reach);
+      const auto passing = active & (enter <= leave);
+      if (simd::any(passing)) f(i, passing, enter, leave);
+    }
+  }
+
   struct Placement {
     std::uint8_t type;
     std::uint32_t index;  ///< in its type's list of models

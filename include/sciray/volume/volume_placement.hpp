@@ -24,10 +24,14 @@ namespace sciray {
 template <class Arch>
 struct VolumeRay {
   using F = simd::Float<Arch>;
-  Ray<F> ray;                  ///< in object space; same t as `world`
-  simd::Mask<Arch> active;     ///< lanes at a time when the volume is there
+  VolumeRay() = default;
+  /// Rays of a volume placed directly in the world.
+  VolumeRay(const Ray<F>& world_ray, const simd::Mask<Arch>& lanes) : ray(world_ray), active(lanes) {}
+
+  Ray<F> ray;                     ///< in object space; same t as `world`
+  simd::Mask<Arch> active{};      ///< lanes at a time when the volume is there
   const Ray<F>* world = nullptr;  ///< null where object space is world space
-  Vec3<F> to_object[3];        ///< world-to-object linear part's columns (where `world`)
+  Vec3<F> to_object[3]{};         ///< world-to-object linear part's columns (where `world`)
 
   /// The world position of the ray at parameter t.
   Vec3<F> world_point(const F& t) const {

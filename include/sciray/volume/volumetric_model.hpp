@@ -7,6 +7,8 @@
 // the exact opacity of a constant-σ step, so images converge as the sampling rate grows
 // instead of changing with it. Colour accumulates front to back; a ray stops when its
 // opacity passes 0.99 (early ray termination) or at the first surface hit behind it.
+// A volume placed by a transform is marched in its object space with the world ray's t
+// (volume_placement.hpp): σ stays per unit of t, steps are a fraction of its cell.
 //
 // Empty-space skipping: the volume is cut into macrocells of 8³ cells that record the range
 // of values inside (with the voxels trilinear samples read at their border); for the
