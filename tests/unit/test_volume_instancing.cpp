@@ -203,3 +203,30 @@ TEST_CASE("placements are checked: singular and non-finite transforms are named"
   CHECK_THROWS_AS(world.place_volume(7, MotionTransform()), std::out_of_range);
   CHECK(world.volume_count() == 1);
 }
+
+TEST_CASE("scivis shadow rays pass through placed volumes", "[volume][instancing][render]") {
+  // A black cube of σ = 1 squeezed to half its depth (z in [0.5, 1]) in front of the
+  // plane z = 2, lit from the camera's side by a distant light of irradiance π: the plane
+  // (0.8/π per unit irradiance) is seen through the slab (e^-0.5), and lit through it
+  // (e^-0.5 again) with shadows.
+  accel::Device device;
+  shim::EngineWorld world(device);
+  world.add_volume(Model(unit_cube(), emission(1.f, {0.f, 0.f, 0.f})),
+                   MotionTransform(Affine3f::translate({0.f, 0.f, 0.5f}) *
+                                   Affine3f{{1.f, 0.f, 0.f}, {0.f, 1.f, 0.f}, {0.f, 0.f, 0.5f}, {0.f, 0.f, 0.f}}));
+  world.add(Planes({{0.f, 0.f, 1.f, -2.f}}));
+  DistantLight light;
+  light.direction = {0.f, 0.f, 1.f};
+  light.intensity = std::numbers::pi_v<float>;
+  SciVisParams params;
+  params.lights = {light};
+  for (const bool shadows : {false, true}) {
+    params.shadows = shadows;
+    for (auto isa : supported_isas()) {
+      INFO(simd::isa_name(isa) << (shadows ? " with shadows" : ""));
+      const FrameBuffer fb = render_down_z(isa, world, params);
+      const int centre = 4 * (16 * 32 + 16);
+      CHECK(fb.color32f()[centre] == Approx(0.8f * std::exp(shadows ? -1.f : -0.5f)).epsilon(1e-4));
+    }
+  }
+}
