@@ -78,7 +78,8 @@ std::pair<float, float> read_range(const Object& owner, const Param& p, const st
 /// material may be recommitted later) check.
 std::string cannot_colour(const Geometry& geometry, const Material* material);
 
-/// Adds a copy of `model` to `world`.
-void add_volume(shim::EngineWorld& world, const EngineVolumetricModel& model);
+/// Adds a copy of `model` to `world`, placed by `placement` (an instance's); returns the
+/// engine's index of the placed volume.
+std::size_t add_volume(shim::EngineWorld& world, const EngineVolumetricModel& model, const MotionTransform& placement);
 
 }  // namespace sciray::ospray

@@ -97,7 +97,7 @@ private:
 
 /// What a world build did with its volumetric models (for the debug summary).
 struct VolumeBuildStats {
-  std::size_t volumes = 0;               ///< models placed
+  std::size_t volumes = 0;               ///< models placed (each once, however many instances place it)
   std::size_t macrocells_built = 0;      ///< models rebuilt for a recommitted volume
   std::size_t transfer_functions = 0;    ///< models given a recommitted transfer function
 };

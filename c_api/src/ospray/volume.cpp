@@ -105,11 +105,13 @@ const void* volume_of(const EngineVolume& volume) {
 
 }  // namespace
 
-/// Adds a copy of `model` to `world`.
-void add_volume(shim::EngineWorld& world, const EngineVolumetricModel& model) {
-  std::visit(
-      [&](const auto& m) {
-        if constexpr (!std::is_same_v<std::decay_t<decltype(m)>, std::monostate>) world.add_volume(m);
+std::size_t add_volume(shim::EngineWorld& world, const EngineVolumetricModel& model, const MotionTransform& placement) {
+  return std::visit(
+      [&](const auto& m) -> std::size_t {
+        if constexpr (std::is_same_v<std::decay_t<decltype(m)>, std::monostate>)
+          throw Error("volumetric model: it has no volume");  // committed models always have one
+        else
+          return world.add_volume(m, placement);
       },
       model);
 }

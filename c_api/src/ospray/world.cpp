@@ -120,10 +120,6 @@ void Instance::on_commit() {
   Ref<Group> group = get_object<Group>("group", OSP_GROUP, true);
   if (!group->committed()) throw Error(name() + ": its group has not been committed");
   MotionTransform placement = read_placement(*this, [this](const std::string& id) { return find(id); });
-  if (!group->volumes().empty() && !(placement.key_count() == 1 && placement.key(0).identity()))
-    throw Error(name() + ": parameter '" + (placement.moving() ? "motion.*" : "transform") +
-                "': its group has volumes, and volumes in transformed instances are not supported yet (place the "
-                "group with the identity transform and the volume with its 'gridOrigin' and 'gridSpacing')");
   group_ = std::move(group);
   placement_ = std::move(placement);
 }
@@ -480,16 +476,23 @@ std::shared_ptr<const BuiltWorld> World::built(const shim::IsaKernels& kernels, 
   std::map<const Group*, std::size_t> group_index;  // this build's groups, by OSPRay group
   std::size_t reused = 0;
   VolumeBuildStats volumes;
+  // Each volumetric model once in the engine, placed by every instance of its groups.
+  std::map<const VolumetricModelObject*, std::size_t> placed_models;
   for (std::size_t i = 0; i < instances_.size(); ++i) {
     const auto& instance = instances_[i];
     Group* group = instance->group();
-    // The engine places volumes directly in the world: only where the instance does not
-    // move them. (The group may have gained volumes after the instance's commit.)
-    if (!group->volumes().empty() && !(instance->placement().key_count() == 1 && instance->placement().key(0).identity()))
-      throw Error(name() + ": instance " + std::to_string(i) +
-                  " places a group with volumes by a transform other than the identity: volumes in transformed "
-                  "instances are not supported yet");
-    for (const auto& model : group->volumes()) add_volume(*built->world, model->engine_model(volumes));
+    for (const auto& model : group->volumes()) {
+      try {
+        if (const auto placed = placed_models.find(model.get()); placed != placed_models.end())
+          built->world->place_volume(placed->second, instance->placement());
+        else
+          placed_models.emplace(model.get(),
+                                add_volume(*built->world, model->engine_model(volumes), instance->placement()));
+      } catch (const Error& e) {
+        throw Error(name() + ": instance " + std::to_string(i) + " (" + instance->name() + "), its group's " +
+                    model->name() + ": " + e.what());
+      }
+    }
     auto [at, added] = group_index.try_emplace(group, built->groups.size());
     if (added) {
       const auto cached = group_cache_.find(group);

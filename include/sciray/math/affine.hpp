@@ -28,6 +28,16 @@ struct Affine3f {
     return Vec3<T>(cross(vy, vz)) * n.x + Vec3<T>(cross(vz, vx)) * n.y + Vec3<T>(cross(vx, vy)) * n.z;
   }
 
+  /// The inverse transform; the determinant must not be 0.
+  Affine3f inverse() const {
+    const float inv_det = 1.f / determinant();
+    // The inverse's rows are the cofactor columns over the determinant.
+    const Vec3f r0 = cross(vy, vz) * inv_det, r1 = cross(vz, vx) * inv_det, r2 = cross(vx, vy) * inv_det;
+    Affine3f out{{r0.x, r1.x, r2.x}, {r0.y, r1.y, r2.y}, {r0.z, r1.z, r2.z}, {0.f, 0.f, 0.f}};
+    out.p = -out.vector(p);
+    return out;
+  }
+
   Box3f transform(const Box3f& box) const {
     Box3f out;
     if (box.empty()) return out;

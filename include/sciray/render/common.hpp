@@ -256,33 +256,6 @@ simd::Float<Arch> max_depth(const RendererParams& params, const simd::Mask<Arch>
   return simd::load<Arch>(depth);
 }
 
-/// Whether any of the world's volumes overlap, and if so how they are marched together:
-/// in slabs one step of the finest of them long, across their union.
-struct VolumeOverlap {
-  bool any = false;
-  float slab = 0.f;  ///< world units
-  Box3f bounds;      ///< of all volumes
-};
-
-template <class WorldT>
-VolumeOverlap volume_overlap(const WorldT& world, const RendererParams& params) {
-  VolumeOverlap out;
-  if constexpr (requires { world.volume_count(); }) {
-    std::vector<Box3f> boxes;
-    out.slab = std::numeric_limits<float>::infinity();
-    world.for_each_volume([&](const auto& model) {
-      const Box3f b = model.bounds();
-      for (const Box3f& o : boxes)
-        out.any = out.any || (b.lower.x < o.upper.x && o.lower.x < b.upper.x && b.lower.y < o.upper.y &&
-                              o.lower.y < b.upper.y && b.lower.z < o.upper.z && o.lower.z < b.upper.z);
-      boxes.push_back(b);
-      out.bounds.extend(b);
-      out.slab = std::min(out.slab, model.step(params.volume_sampling_rate));
-    });
-  }
-  return out;
-}
-
 /// How volumes of `world` are integrated under the renderer's parameters, at
 /// `rate_scale` times its sampling rate (OSPRay's shadow and AO rays sample coarser).
 template <class WorldT>
@@ -296,47 +269,113 @@ VolumeIntegration volume_integration(const WorldT& world, const RendererParams& 
   return how;
 }
 
+/// Composites the samples of volumes that do not overlap along any lane (`along[k]`
+/// gave `samples[k]`), each lane in the order it enters them.
+template <class Arch, class AlongT>
+void composite_in_depth_order(const std::vector<AlongT>& along, const std::vector<VolumeSample<Arch>>& samples,
+                              Vec3<simd::Float<Arch>>& color, Vec3<simd::Float<Arch>>& transmittance) {
+  constexpr int W = simd::width<Arch>;
+  alignas(64) float out[6][W];
+  std::vector<std::pair<float, std::size_t>> order;
+  for (int i = 0; i < W; ++i) {
+    order.clear();
+    for (std::size_t k = 0; k < samples.size(); ++k)
+      if (simd::lane(samples[k].alpha, i) > 0.f) order.emplace_back(simd::lane(along[k].enter, i), k);
+    std::sort(order.begin(), order.end());
+    Vec3f c{simd::lane(color.x, i), simd::lane(color.y, i), simd::lane(color.z, i)};
+    Vec3f t{simd::lane(transmittance.x, i), simd::lane(transmittance.y, i), simd::lane(transmittance.z, i)};
+    for (const auto& [enter, k] : order) {
+      const VolumeSample<Arch>& v = samples[k];
+      c = c + t * Vec3f{simd::lane(v.color.x, i), simd::lane(v.color.y, i), simd::lane(v.color.z, i)};
+      t = t * (1.f - simd::lane(v.alpha, i));
+    }
+    const float values[6] = {c.x, c.y, c.z, t.x, t.y, t.z};
+    for (int k = 0; k < 6; ++k) out[k][i] = values[k];
+  }
+  color = {simd::load<Arch>(out[0]), simd::load<Arch>(out[1]), simd::load<Arch>(out[2])};
+  transmittance = {simd::load<Arch>(out[3]), simd::load<Arch>(out[4]), simd::load<Arch>(out[5])};
+}
+
 /// Volumes of `world` integrated along `ray` up to `t_end`, composited front to back into
 /// `color` under `transmittance` (both updated). `shade` lights gradient-shaded samples
-/// (VolumetricModel::integrate); without it no sample is lit. Volumes that overlap
-/// (`overlap`, from volume_overlap) are composited slab by slab, each volume over the
-/// slab in turn, so that their samples interleave in depth as OSPRay's do (one after the
-/// other, a volume behind another would show in front of it).
+/// (VolumetricModel::integrate); without it no sample is lit. Each lane composites the
+/// volumes in its own depth order: where the volumes the packet passes do not overlap
+/// along any lane, each is integrated on its own and every lane composites them sorted by
+/// where it enters them; where they overlap, they are marched together in slabs one step
+/// of the finest long, each volume over the slab in turn, so that their samples
+/// interleave in depth as OSPRay's do.
 template <class Arch, class WorldT, class Shade = std::nullptr_t>
-void composite_volumes(const WorldT& world, const VolumeIntegration& how, const VolumeOverlap& overlap,
-                       const Ray<simd::Float<Arch>>& ray, const simd::Mask<Arch>& active,
-                       const simd::Float<Arch>& t_end, Vec3<simd::Float<Arch>>& color,
-                       Vec3<simd::Float<Arch>>& transmittance, const Shade& shade = nullptr) {
+void composite_volumes(const WorldT& world, const VolumeIntegration& how, const Ray<simd::Float<Arch>>& ray,
+                       const simd::Mask<Arch>& active, const simd::Float<Arch>& t_end,
+                       Vec3<simd::Float<Arch>>& color, Vec3<simd::Float<Arch>>& transmittance,
+                       const Shade& shade = nullptr) {
   using Fl = simd::Float<Arch>;
+  using Ml = simd::Mask<Arch>;
   if constexpr (requires { world.volume_count(); }) {
     if (!world.volume_count()) return;
-    const auto composite = [&](const Ray<Fl>& segment, const simd::Mask<Arch>& lanes, const Fl& end) {
-      world.for_each_volume([&](const auto& model) {
-        const VolumeSample<Arch> v = model.template integrate<Arch>(segment, lanes, end, how, shade);
-        color = color + transmittance * v.color;
-        transmittance = transmittance * (Fl(1.f) - v.alpha);
-      });
+    const auto along = world.template volumes_along<Arch>(ray, active, t_end);
+    if (along.empty()) return;
+    const auto composite = [&](const VolumeSample<Arch>& v) {
+      color = color + transmittance * v.color;
+      transmittance = transmittance * (Fl(1.f) - v.alpha);
     };
-    if (!overlap.any) return composite(ray, active, t_end);
-    // The slabs cover where the ray crosses the volumes' union box.
-    const Vec3<Fl> inv{Fl(1.f) / ray.dir.x, Fl(1.f) / ray.dir.y, Fl(1.f) / ray.dir.z};
-    const Vec3<Fl> t0 = (Vec3<Fl>(overlap.bounds.lower) - ray.org) * inv;
-    const Vec3<Fl> t1 = (Vec3<Fl>(overlap.bounds.upper) - ray.org) * inv;
-    const Vec3<Fl> near = min(t0, t1), far = max(t0, t1);
-    Fl start = simd::max(simd::max(simd::max(near.x, near.y), near.z), ray.tnear);
-    const Fl leave = simd::min(simd::min(simd::min(far.x, far.y), far.z), simd::min(t_end, ray.tfar));
-    auto lanes = active & (start < leave);
-    const Fl slab(overlap.slab);
+    const auto integrate = [&](const auto& a, const Ray<Fl>& segment, const Ml& lanes, const Fl& end) {
+      VolumeSample<Arch> v{Vec3<Fl>(Vec3f{0.f, 0.f, 0.f}), Fl(0.f)};
+      world.template with_volume<Arch>(a.volume, segment, lanes, [&](const auto& model, const auto& object_ray) {
+        v = model.template integrate<Arch>(object_ray, end, how, shade);
+      });
+      return v;
+    };
+    bool overlap = false;
+    for (std::size_t i = 0; i < along.size() && !overlap; ++i)
+      for (std::size_t j = i + 1; j < along.size() && !overlap; ++j)
+        overlap = simd::any(simd::max(along[i].enter, along[j].enter) < simd::min(along[i].leave, along[j].leave));
+    if (!overlap) {
+      if (along.size() == 1) return composite(integrate(along[0], ray, active, t_end));
+      std::vector<VolumeSample<Arch>> samples;
+      samples.reserve(along.size());
+      for (const auto& a : along) samples.push_back(integrate(a, ray, active & (a.enter <= a.leave), t_end));
+      composite_in_depth_order<Arch>(along, samples, color, transmittance);
+      return;
+    }
+    // The slabs cover where the rays cross the volumes' boxes.
+    Fl start(INFINITY), leave(-INFINITY);
+    float slab = INFINITY;
+    for (const auto& a : along) {
+      start = simd::min(start, a.enter), leave = simd::max(leave, a.leave);
+      slab = std::min(slab, a.step / how.sampling_rate);
+    }
+    Ml lanes = active & (start < leave);
     Ray<Fl> segment = ray;
     while (simd::any(lanes)) {
       segment.tnear = start;
-      composite(segment, lanes, simd::min(start + slab, leave));
-      start = start + slab;
+      const Fl end = simd::min(start + Fl(slab), leave);
+      for (const auto& a : along) {
+        const Ml in_slab = lanes & (a.enter < end) & (start <= a.leave);
+        if (simd::any(in_slab)) composite(integrate(a, segment, in_slab, end));
+      }
+      start = start + Fl(slab);
       // Early ray termination, as each volume's own march stops at opacity 0.99.
       const Fl left = simd::max(simd::max(transmittance.x, transmittance.y), transmittance.z);
       lanes = lanes & (start < leave) & (left > Fl(0.01f));
     }
   }
+}
+
+/// The volumes' transmittance along `ray` up to `t_end` (shadow and AO rays, the path
+/// tracer's alpha): the product over the volumes, which needs no depth order.
+template <class Arch, class WorldT>
+simd::Float<Arch> volume_transmittance(const WorldT& world, const VolumeIntegration& how,
+                                       const Ray<simd::Float<Arch>>& ray, const simd::Mask<Arch>& active,
+                                       const simd::Float<Arch>& t_end) {
+  using Fl = simd::Float<Arch>;
+  Fl through(1.f);
+  if constexpr (requires { world.volume_count(); })
+    if (world.volume_count())
+      world.template for_each_volume_along<Arch>(ray, active, t_end, [&](const auto& model, const auto& object_ray) {
+        through = through * (Fl(1.f) - model.template integrate<Arch>(object_ray, t_end, how).alpha);
+      });
+  return through;
 }
 
 }  // namespace detail

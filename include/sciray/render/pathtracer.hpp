@@ -52,7 +52,7 @@ public:
   static constexpr int W = simd::width<Arch>;
 
   PathTracer(const WorldT& world, const PathTracerParams& params)
-      : world_(&world), params_(params), volume_overlap_(detail::volume_overlap(world, params)) {
+      : world_(&world), params_(params) {
     validate(params_, world.materials_needed(), "pathtracer");
     if (params_.roulette_path_length < 0)
       throw Error("pathtracer renderer: parameter 'roulettePathLength' must not be negative");
@@ -267,12 +267,9 @@ private:
 
   /// The camera ray's volume opacity in front of `t_end`, integrated as scivis does.
   void camera_volume_alpha(Path* path, const Ray<F>& ray, const M& live, const F& t_end) const {
-    Vec3<F> color(splat(0.f)), transmittance(splat(1.f));
-    detail::composite_volumes<Arch>(*world_, detail::volume_integration(*world_, params_), volume_overlap_, ray, live,
-                                    t_end, color, transmittance);
-    for (int i = 0; i < W; ++i)
-      path[i].volume_alpha = 1.f - (simd::lane(transmittance.x, i) + simd::lane(transmittance.y, i) +
-                                    simd::lane(transmittance.z, i)) / 3.f;
+    const F transmittance =
+        detail::volume_transmittance<Arch>(*world_, detail::volume_integration(*world_, params_), ray, live, t_end);
+    for (int i = 0; i < W; ++i) path[i].volume_alpha = 1.f - simd::lane(transmittance, i);
   }
 
   /// Delta tracking through every volume up to `t_end`: the nearest collision of each
@@ -282,8 +279,8 @@ private:
     M collided(false);
     Vec3<F> albedo(splat(0.f));
     F anisotropy(0.f);
-    world_->for_each_volume([&](const auto& model) {
-      const auto c = model.template sample_collision<Arch>(ray, live, t_end, world_->clipping(),
+    world_->template for_each_volume_along<Arch>(ray, live, t_end, [&](const auto& model, const auto& object_ray) {
+      const auto c = model.template sample_collision<Arch>(object_ray, t_end, world_->clipping(),
                                                            [&] { return independent_uniforms(path); });
       collided = collided | c.hit;
       t_end = simd::select(c.hit, c.t, t_end);
@@ -303,10 +300,10 @@ private:
   F volume_transmittance(Path* path, const Ray<F>& ray, const M& lanes) const {
     F transmittance(1.f);
     if constexpr (requires { world_->volume_count(); })
-      world_->for_each_volume([&](const auto& model) {
-        const M tracking = lanes & (transmittance > F(0.f));
-        if (!simd::any(tracking)) return;
-        transmittance = transmittance * model.template transmittance<Arch>(ray, tracking, ray.tfar, world_->clipping(),
+      world_->template for_each_volume_along<Arch>(ray, lanes, ray.tfar, [&](const auto& model, auto object_ray) {
+        object_ray.active = object_ray.active & (transmittance > F(0.f));
+        if (!simd::any(object_ray.active)) return;
+        transmittance = transmittance * model.template transmittance<Arch>(object_ray, ray.tfar, world_->clipping(),
                                                                            [&] { return independent_uniforms(path); });
       });
     return transmittance;
@@ -415,7 +412,6 @@ private:
 
   const WorldT* world_;
   PathTracerParams params_;
-  detail::VolumeOverlap volume_overlap_;  ///< for the camera ray's volume alpha
   float scene_size_ = 1.f;
   std::vector<bool> normal_mapped_;  ///< per material: has a normal map
 };

@@ -86,7 +86,6 @@ public:
   LocalRenderer(const WorldT& world, const Params& params)
       : world_(&world),
         params_(params),
-        volume_overlap_(volume_overlap(world, params)),
         camera_volumes_(volume_integration(world, params)),
         light_volumes_(volume_integration(world, params, 0.25f)),
         ao_volumes_(volume_integration(world, params, 0.1f)) {
@@ -147,10 +146,10 @@ public:
       const auto hit = accel::intersect<Arch>(world_->scene(), ray, live, depth == 0, world_->hit_filter());
       const F t_end = simd::select(hit.hit, hit.t, inf);
       if constexpr (is_ao) {
-        composite_volumes<Arch>(*world_, camera_volumes_, volume_overlap_, ray, live, t_end, color,
+        composite_volumes<Arch>(*world_, camera_volumes_, ray, live, t_end, color,
                                 transmittance);  // unlit, as OSPRay's ao
       } else {
-        composite_volumes<Arch>(*world_, camera_volumes_, volume_overlap_, ray, live, t_end, color, transmittance,
+        composite_volumes<Arch>(*world_, camera_volumes_, ray, live, t_end, color, transmittance,
                                 [&](const Vec3<F>& p, const Vec3<F>& n, const Vec3<F>& c, const M& lanes) {
                                   return lit_volume_sample(p, n, c, ray.time, lanes, rng);
                                 });
@@ -484,12 +483,8 @@ private:
     Vec3<F> through = surface_transmittance(ray, lanes);
     const M lit = lanes & (simd::max(simd::max(through.x, through.y), through.z) > F(0.f));
     if constexpr (requires { world_->volume_count(); })
-      if (world_->volume_count() && simd::any(lit)) {
-        Vec3<F> unused(splat(0.f)), volume_through(splat(1.f));
-        composite_volumes<Arch>(*world_, volumes, volume_overlap_, ray, lit,
-                                F(std::numeric_limits<float>::infinity()), unused, volume_through);
-        through = through * volume_through;
-      }
+      if (world_->volume_count() && simd::any(lit))
+        through = through * volume_transmittance<Arch>(*world_, volumes, ray, lit, ray.tfar);
     return through;
   }
 
@@ -534,7 +529,6 @@ private:
 
   const WorldT* world_;
   Params params_;
-  VolumeOverlap volume_overlap_;
   /// Volumes along camera rays, and along shadow and AO rays (which, as OSPRay's, sample
   /// them at a quarter and a tenth of the rate).
   VolumeIntegration camera_volumes_, light_volumes_, ao_volumes_;

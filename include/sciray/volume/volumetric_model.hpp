@@ -7,6 +7,8 @@
 // the exact opacity of a constant-σ step, so images converge as the sampling rate grows
 // instead of changing with it. Colour accumulates front to back; a ray stops when its
 // opacity passes 0.99 (early ray termination) or at the first surface hit behind it.
+// A volume placed by a transform is marched in its object space with the world ray's t
+// (volume_placement.hpp): σ stays per unit of t, steps are a fraction of its cell.
 //
 // Empty-space skipping: the volume is cut into macrocells of 8³ cells that record the range
 // of values inside (with the voxels trilinear samples read at their border); for the
@@ -39,6 +41,7 @@
 #include "sciray/scene/clipping.hpp"
 #include "sciray/volume/structured_regular.hpp"
 #include "sciray/volume/transfer_function.hpp"
+#include "sciray/volume/volume_placement.hpp"
 
 namespace sciray {
 
@@ -88,7 +91,7 @@ public:
   float density_scale() const { return density_scale_; }
   /// Henyey–Greenstein g of the phase function: > 0 scatters forward, < 0 back.
   float anisotropy() const { return anisotropy_; }
-  /// The largest extinction σ anywhere in the volume (per world unit).
+  /// The largest extinction σ anywhere in the volume (per unit of ray parameter t).
   float majorant() const { return majorant_; }
   Box3f bounds() const { return volume_->bounds(); }
   std::size_t owned_bytes() const { return (ranges_.size() * 2 + opacity_.size()) * sizeof(float); }
@@ -113,7 +116,7 @@ public:
     derive_macrocell_opacities();
   }
 
-  /// The step between samples in world units for `sampling_rate` samples per cell.
+  /// The step between samples in object units for `sampling_rate` samples per cell.
   float step(float sampling_rate) const {
     const Vec3f& s = volume_->grid().spacing;
     return std::min({s.x, s.y, s.z}) / sampling_rate;
@@ -127,14 +130,23 @@ public:
   VolumeSample<Arch> integrate(const Ray<simd::Float<Arch>>& ray, const simd::Mask<Arch>& active,
                                const simd::Float<Arch>& t_end, const VolumeIntegration& how,
                                const Shade& shade = nullptr) const {
+    return integrate<Arch>(VolumeRay<Arch>{ray, active}, t_end, how, shade);
+  }
+  /// integrate() of a placed volume: `placed` holds the rays in object space (positions
+  /// and normals go back to the world for clipping and lighting).
+  template <class Arch, class Shade = std::nullptr_t>
+  VolumeSample<Arch> integrate(const VolumeRay<Arch>& placed, const simd::Float<Arch>& t_end,
+                               const VolumeIntegration& how, const Shade& shade = nullptr) const {
     using F = simd::Float<Arch>;
+    const Ray<F>& ray = placed.ray;
     VolumeSample<Arch> out{Vec3<F>(Vec3f{0.f, 0.f, 0.f}), F(0.f)};
     const Vec3<F> inv{F(1.f) / ray.dir.x, F(1.f) / ray.dir.y, F(1.f) / ray.dir.z};
     const auto [enter, leave] = span<Arch>(ray, inv, t_end);
-    auto live = active & (enter < leave);
+    auto live = placed.active & (enter < leave);
     if (!simd::any(live)) return out;
 
-    const float dt = step(how.sampling_rate);
+    // The step in t: a fraction of an object-space cell, however the volume is placed.
+    const F dt = F(step(how.sampling_rate)) * placed.t_per_unit();
     // Sample k stands for the step [enter + k·dt, enter + (k+1)·dt] cut at `leave`, and
     // sits at its middle (the midpoint rule, exact for a linearly varying extinction).
     F t = enter;
@@ -147,19 +159,19 @@ public:
     const Vec3f cell_size = grid.spacing * static_cast<float>(macrocell_cells);
     const Vec3f grid_lower = grid.cell_centered ? grid.origin + grid.spacing * 0.5f : grid.origin;
     while (simd::any(live)) {
-      F step = F(dt);
+      F step = dt;
       auto sampled = live;
       // The lane's macrocell: whether the transfer function can show anything there and,
       // for adaptive sampling, how dense it can get. Plain steps ask at their midpoint,
       // adaptive ones (whose length depends on the answer) at their start.
       if (how.empty_space_skipping || how.adaptive_sampling) {
-        const F probe_t = how.adaptive_sampling ? t : simd::min(t + F(0.5f * dt), leave);
+        const F probe_t = how.adaptive_sampling ? t : simd::min(t + F(0.5f) * dt, leave);
         const auto [cx, cy, cz, densest] = macrocell<Arch>(ray.org + ray.dir * probe_t);
         if (how.adaptive_sampling)
           // At most `adaptive_optical_depth` absorbed a step, between 4× finer and 4× coarser
           // than the base rate: fine where the medium is dense, coarse where it is thin.
-          step = simd::min(simd::max(F(adaptive_optical_depth / how.sampling_rate) / densest, F(0.25f * dt)),
-                           F(4.f * dt));
+          step = simd::min(simd::max(F(adaptive_optical_depth / how.sampling_rate) / densest, F(0.25f) * dt),
+                           F(4.f) * dt);
         const auto empty = live & (densest <= F(0.f));
         if (how.empty_space_skipping && simd::any(empty)) {
           const Vec3<F> lower{F(grid_lower.x) + simd::to_float(cx) * F(cell_size.x),
@@ -171,8 +183,8 @@ public:
           const F exit = simd::min(simd::min(te.x, te.y), te.z);
           // Plain steps skip those whose midpoints lie before the exit (keeping the sample
           // grid); adaptive ones, which have no grid, go straight to the exit.
-          const F skip = how.adaptive_sampling ? simd::max(exit - t, F(1e-3f * dt))
-                                               : simd::max(xsimd_ceil((exit - t) * F(1.f / dt) - F(0.5f)), F(1.f)) * F(dt);
+          const F skip = how.adaptive_sampling ? simd::max(exit - t, F(1e-3f) * dt)
+                                               : simd::max(xsimd_ceil((exit - t) / dt - F(0.5f)), F(1.f)) * dt;
           step = simd::select(empty, skip, step);
           sampled = sampled & !empty;
         }
@@ -180,7 +192,8 @@ public:
       const F step_end = simd::min(t + step, leave);
       const F next = t + step;
       const Vec3<F> p = ray.org + ray.dir * ((t + step_end) * F(0.5f));
-      if (how.clipping && simd::any(sampled)) sampled = sampled & !clipped<Arch>(p, sampled, *how.clipping);
+      if (how.clipping && simd::any(sampled))
+        sampled = sampled & !clipped<Arch>(placed.world_point((t + step_end) * F(0.5f)), sampled, *how.clipping);
       if (simd::any(sampled)) {
         F sigma;
         Vec3<F> color;
@@ -199,7 +212,8 @@ public:
         }
         const F alpha = F(1.f) - exp(sigma * neg_density * (step_end - t));
         if constexpr (!std::is_null_pointer_v<Shade>)
-          if (gradient_shading_scale_ > 0.f) color = gradient_shaded<Arch>(p, color, sampled, shade);
+          if (gradient_shading_scale_ > 0.f)
+            color = gradient_shaded<Arch>(placed, p, (t + step_end) * F(0.5f), color, sampled, shade);
         const F weight = simd::select(sampled, (F(1.f) - out.alpha) * alpha, F(0.f));
         out.color = out.color + color * weight;
         out.alpha = out.alpha + weight;
@@ -225,13 +239,19 @@ public:
   template <class Arch, class Uniform>
   Collision<Arch> sample_collision(const Ray<simd::Float<Arch>>& ray, const simd::Mask<Arch>& active,
                                    const simd::Float<Arch>& t_end, const Clipping* clipping, Uniform&& uniform) const {
+    return sample_collision<Arch>(VolumeRay<Arch>{ray, active}, t_end, clipping, uniform);
+  }
+  /// sample_collision() of a placed volume (`placed`: the rays in object space).
+  template <class Arch, class Uniform>
+  Collision<Arch> sample_collision(const VolumeRay<Arch>& placed, const simd::Float<Arch>& t_end,
+                                   const Clipping* clipping, Uniform&& uniform) const {
     using F = simd::Float<Arch>;
     using M = simd::Mask<Arch>;
+    const Ray<F>& ray = placed.ray;
     Collision<Arch> out{M(false), F(std::numeric_limits<float>::infinity()), Vec3<F>(Vec3f{0.f, 0.f, 0.f})};
-    track<Arch>(ray, active, t_end, uniform, [&](const M& lanes, const F& t, const F& majorant) {
-      const Vec3<F> p = ray.org + ray.dir * t;
-      const F value = volume_->template sample<Arch>(p);
-      const M real = lanes & (uniform() * majorant < extinction<Arch>(value, p, lanes, clipping));
+    track<Arch>(placed, t_end, uniform, [&](const M& lanes, const F& t, const F& majorant) {
+      const F value = volume_->template sample<Arch>(ray.org + ray.dir * t);
+      const M real = lanes & (uniform() * majorant < extinction<Arch>(value, placed, t, lanes, clipping));
       if (simd::any(real)) {
         const Vec3<F> c = tf_.template color<Arch>(value);
         out.hit = out.hit | real;
@@ -250,13 +270,20 @@ public:
   template <class Arch, class Uniform>
   simd::Float<Arch> transmittance(const Ray<simd::Float<Arch>>& ray, const simd::Mask<Arch>& active,
                                   const simd::Float<Arch>& t_end, const Clipping* clipping, Uniform&& uniform) const {
+    return transmittance<Arch>(VolumeRay<Arch>{ray, active}, t_end, clipping, uniform);
+  }
+  /// transmittance() of a placed volume (`placed`: the rays in object space).
+  template <class Arch, class Uniform>
+  simd::Float<Arch> transmittance(const VolumeRay<Arch>& placed, const simd::Float<Arch>& t_end,
+                                  const Clipping* clipping, Uniform&& uniform) const {
     using F = simd::Float<Arch>;
     using M = simd::Mask<Arch>;
+    const Ray<F>& ray = placed.ray;
     constexpr float roulette_below = 0.1f;
     F estimate(1.f);
-    track<Arch>(ray, active, t_end, uniform, [&](const M& lanes, const F& t, const F& majorant) {
-      const Vec3<F> p = ray.org + ray.dir * t;
-      const F sigma = extinction<Arch>(volume_->template sample<Arch>(p), p, lanes, clipping);
+    track<Arch>(placed, t_end, uniform, [&](const M& lanes, const F& t, const F& majorant) {
+      const F value = volume_->template sample<Arch>(ray.org + ray.dir * t);
+      const F sigma = extinction<Arch>(value, placed, t, lanes, clipping);
       estimate = simd::select(lanes, estimate * simd::max(F(1.f) - sigma / majorant, F(0.f)), estimate);
       // Small estimates survive with probability 1/2 at twice their value.
       const M small = lanes & (estimate < F(roulette_below));
@@ -310,9 +337,11 @@ private:
   /// exponential distribution has no memory). `at_tentative(lanes, t, majorant)` returns
   /// the lanes that go on.
   template <class Arch, class Uniform, class AtTentative>
-  void track(const Ray<simd::Float<Arch>>& ray, const simd::Mask<Arch>& active, const simd::Float<Arch>& t_end,
-             Uniform& uniform, AtTentative&& at_tentative) const {
+  void track(const VolumeRay<Arch>& placed, const simd::Float<Arch>& t_end, Uniform& uniform,
+             AtTentative&& at_tentative) const {
     using F = simd::Float<Arch>;
+    const Ray<F>& ray = placed.ray;
+    const auto& active = placed.active;
     using I = simd::Int<Arch>;
     constexpr float inf = std::numeric_limits<float>::infinity();
     const Vec3<F> inv{F(1.f) / ray.dir.x, F(1.f) / ray.dir.y, F(1.f) / ray.dir.z};
@@ -323,9 +352,9 @@ private:
     const Vec3f cell_size = grid.spacing * static_cast<float>(macrocell_cells);
     const Vec3f grid_lower = grid.cell_centered ? grid.origin + grid.spacing * 0.5f : grid.origin;
     // Probing a little past t finds the macrocell a lane is entering, not the one it leaves.
-    const float nudge = 1e-4f * std::min({grid.spacing.x, grid.spacing.y, grid.spacing.z});
+    const F nudge = F(1e-4f * std::min({grid.spacing.x, grid.spacing.y, grid.spacing.z})) * placed.t_per_unit();
     while (simd::any(tracking)) {
-      const auto [cx, cy, cz, majorant] = macrocell<Arch>(ray.org + ray.dir * (t + F(nudge)));
+      const auto [cx, cy, cz, majorant] = macrocell<Arch>(ray.org + ray.dir * (t + nudge));
       // The outermost macrocells reach on to the box's faces (and past them: `leave` stops
       // the lane there), so that no lane is left outside every macrocell.
       const auto planes = [&](const I& c, int axis, float origin, float size, F& lo, F& hi) {
@@ -340,7 +369,7 @@ private:
       // By the sign of inv, not of dir: a direction of -0 has inv = -inf and leaves by lower.
       const Vec3<F> te = (select_positive(inv, upper, lower) - ray.org) * inv;
       // At least a nudge on (also where a plane is parallel to the ray and te is NaN).
-      const F exit = simd::max(simd::min(simd::min(te.x, te.y), te.z), t + F(nudge));
+      const F exit = simd::max(simd::min(simd::min(te.x, te.y), te.z), t + nudge);
       const F flight = simd::select(majorant > F(0.f), -log(F(1.f) - uniform()) / majorant, F(inf));
       const F next = t + flight;
       const auto tentative = tracking & (next < exit) & (next < leave);
@@ -350,14 +379,16 @@ private:
     }
   }
 
-  /// σ at positions `p` whose filtered values are `value`; none inside clipped regions.
+  /// σ at ray parameters `t` whose filtered values are `value`; none inside clipped
+  /// regions (which are in world space).
   template <class Arch>
-  simd::Float<Arch> extinction(const simd::Float<Arch>& value, const Vec3<simd::Float<Arch>>& p,
-                               const simd::Mask<Arch>& lanes, const Clipping* clipping) const {
+  simd::Float<Arch> extinction(const simd::Float<Arch>& value, const VolumeRay<Arch>& placed,
+                               const simd::Float<Arch>& t, const simd::Mask<Arch>& lanes,
+                               const Clipping* clipping) const {
     using F = simd::Float<Arch>;
     const F sigma = tf_.template opacity<Arch>(value) * F(density_scale_);
     if (!clipping) return sigma;
-    return simd::select(clipped<Arch>(p, lanes, *clipping), F(0.f), sigma);
+    return simd::select(clipped<Arch>(placed.world_point(t), lanes, *clipping), F(0.f), sigma);
   }
 
   template <class F>
@@ -408,15 +439,17 @@ private:
   /// by the gradient shading scale. Where the field is flat there is no normal: the
   /// sample keeps its colour.
   template <class Arch, class Shade>
-  Vec3<simd::Float<Arch>> gradient_shaded(const Vec3<simd::Float<Arch>>& p, const Vec3<simd::Float<Arch>>& color,
+  Vec3<simd::Float<Arch>> gradient_shaded(const VolumeRay<Arch>& placed, const Vec3<simd::Float<Arch>>& p,
+                                          const simd::Float<Arch>& t, const Vec3<simd::Float<Arch>>& color,
                                           const simd::Mask<Arch>& lanes, const Shade& shade) const {
     using F = simd::Float<Arch>;
-    const Vec3<F> g = volume_->template gradient<Arch>(p);
-    const F length2 = dot(g, g);
-    const auto lit_lanes = lanes & (length2 > F(1e-6f));
+    // Flat in object space (as OSPRay asks), else the gradient as a world normal.
+    const Vec3<F> object_g = volume_->template gradient<Arch>(p);
+    const auto lit_lanes = lanes & (dot(object_g, object_g) > F(1e-6f));
     if (!simd::any(lit_lanes)) return color;
-    const Vec3<F> n = -g / simd::sqrt(simd::select(lit_lanes, length2, F(1.f)));
-    const Vec3<F> lit = shade(p, n, color, lit_lanes);
+    const Vec3<F> g = placed.world_normal(object_g);
+    const Vec3<F> n = -g / simd::sqrt(simd::select(lit_lanes, dot(g, g), F(1.f)));
+    const Vec3<F> lit = shade(placed.world_point(t), n, color, lit_lanes);
     const F s(gradient_shading_scale_);
     return select(lit_lanes, color + (lit - color) * s, color);
   }
