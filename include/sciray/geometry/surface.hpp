@@ -26,7 +26,8 @@ struct SurfaceSample {
   /// knows its own precision (OSPRay's per-geometry epsilon: spheres scale it by their
   /// radius); 0 where the hit position's magnitude decides alone.
   F epsilon = F(0.f);
-  /// Interpolated texture coordinates; (0, 0) on geometry without them, as in OSPRay.
+  /// Interpolated texture coordinates; without them, as in OSPRay, a mesh's hit
+  /// coordinates (u, v) and (0, 0) on other geometry.
   TexCoord<F> uv{F(0.f), F(0.f)};
 };
 

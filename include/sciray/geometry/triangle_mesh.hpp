@@ -235,6 +235,8 @@ public:
     if (!a.texcoords.empty()) {
       const auto uv = interpolate<Arch, 2>(a.texcoords, corners);
       s.uv = {uv[0], uv[1]};
+    } else {
+      s.uv = {hit.u, hit.v};  // as OSPRay: the hit's own coordinates (a quad's spans [0, 1]^2)
     }
     if (!a.normals.empty()) {
       const auto n = interpolate<Arch, 3>(a.normals, corners);

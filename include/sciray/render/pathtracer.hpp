@@ -9,6 +9,11 @@
 // or when the BSDF absorbs them; `maxContribution` clamps fireflies (biased, off by
 // default). Rays travel in packets; each lane's path is shaded on its own.
 //
+// Emissive geometry (luminous, principled emissiveColor) is a light too: meshes and
+// spheres, direct or instanced, moving or deforming, are sampled by area
+// (render/geometry_light.hpp) and weighed against BSDF sampling like every other light
+// with size; emitters of other types are found by BSDF sampling alone.
+//
 // Shadow rays are blocked by any surface, transparent or not: light through glass
 // arrives only along BSDF-sampled paths (caustics from lights with size and from the
 // environment, none from point lights).
@@ -42,6 +47,8 @@ struct PathTracerParams : RendererParams {
   int roulette_path_length = 5;  ///< roulettePathLength: bounces before Russian roulette starts
   float max_contribution = std::numeric_limits<float>::infinity();  ///< maxContribution
   LightSampling light_sampling = LightSampling::mis;
+  /// geometryLights: emissive geometry is sampled as a light (else found by BSDF sampling only)
+  bool geometry_lights = true;
 };
 
 template <class Arch, class WorldT>
@@ -56,7 +63,7 @@ public:
       : world_(&world),
         params_(params),
         volume_overlap_(detail::volume_overlap(world, params)),
-        geometry_lights_(params.light_sampling == LightSampling::bsdf_only
+        geometry_lights_(params.light_sampling == LightSampling::bsdf_only || !params.geometry_lights
                              ? GeometryLights<WorldT>()
                              : GeometryLights<WorldT>(world, params.materials)) {
     validate(params_, world.materials_needed(), "pathtracer");
