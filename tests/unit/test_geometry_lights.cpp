@@ -215,7 +215,7 @@ TEST_CASE("deforming mesh: rays at each time hit the triangle where its time ste
     r.tnear = 0.f, r.tfar = 10.f, r.time = time;
     return r;
   };
-  for (simd::Isa isa : {simd::select_isa()}) {
+  for (simd::Isa isa : {shim::select_isa()}) {
     const auto hits = trace_geometry(isa, mesh, {ray(0.25f, 0.f), ray(2.25f, 0.f), ray(0.25f, 1.f), ray(2.25f, 1.f),
                                                   ray(1.25f, 0.5f)});
     CHECK(hits[0].geom_id == 0);
