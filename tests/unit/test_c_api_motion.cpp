@@ -176,3 +176,55 @@ TEST_CASE("C API: camera and instance placement and shutter parameters are range
   ospRelease(instance);
   ospRelease(camera);
 }
+
+TEST_CASE("C API: a deforming mesh's motion.vertex.position and time, and luminous parameters, are range-checked "
+          "at commit by name",
+          "[c_api][motion][errors]") {
+  ApiFixture api;
+  const float square[12] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0}, moved[12] = {2, 0, 0, 3, 0, 0, 3, 1, 0, 2, 1, 0};
+  const unsigned index[4] = {0, 1, 2, 3};
+  OSPGeometry mesh = ospNewGeometry("mesh");
+  OSPData indices = ospNewSharedData1D(index, OSP_VEC4UI, 1);
+  ospSetObject(mesh, "index", indices);
+  ospRelease(indices);
+  OSPData first = ospNewSharedData1D(square, OSP_VEC3F, 4), second = ospNewSharedData1D(moved, OSP_VEC3F, 4),
+          three = ospNewSharedData1D(moved, OSP_VEC3F, 3);
+  const auto set_steps = [&](std::vector<OSPData> steps) {
+    OSPData list = ospNewSharedData1D(steps.data(), OSP_DATA, static_cast<std::uint32_t>(steps.size()));
+    ospSetObject(mesh, "motion.vertex.position", list);
+    ospRelease(list);
+    ospCommit(mesh);
+  };
+  set_steps({first});
+  api.expect_error("mesh geometry: parameter 'motion.vertex.position' needs at least two time steps, got 1");
+  set_steps({first, three});
+  api.expect_error("parameter 'motion.vertex.position' element 1 has 3 vertices but element 0 has 4");
+  const float backwards[2] = {1.f, 0.f};
+  ospSetParam(mesh, "time", OSP_BOX1F, backwards);
+  set_steps({first, second});
+  api.expect_error("mesh geometry: parameter 'time' must have lower <= upper");
+  ospRemoveParam(mesh, "time");
+  ospCommit(mesh);  // two steps of four vertices over the default [0, 1]
+  CHECK(api.messages.errors.empty());
+  ospRelease(first), ospRelease(second), ospRelease(three);
+
+  OSPMaterial luminous = ospNewMaterial("luminous");
+  ospSetFloat(luminous, "transparency", 1.5f);
+  ospCommit(luminous);
+  api.expect_error("luminous material: parameter 'transparency' must be in [0, 1]");
+  ospSetFloat(luminous, "transparency", 0.5f);
+  ospSetFloat(luminous, "intensity", -1.f);
+  ospCommit(luminous);
+  api.expect_error("luminous material: parameter 'intensity' must be finite and not negative");
+  ospSetFloat(luminous, "intensity", 2.f);
+  const float texel[3] = {1.f, 0.5f, 0.25f};
+  OSPData texels = ospNewSharedData2D(texel, OSP_VEC3F, 1, 1);
+  OSPTexture texture = ospNewTexture("texture2d");
+  ospSetObject(texture, "data", texels);
+  ospSetInt(texture, "format", OSP_TEXTURE_RGB32F);
+  ospCommit(texture);
+  ospSetObject(luminous, "map_color", texture);
+  ospCommit(luminous);  // map_color is a luminous parameter now
+  CHECK(api.messages.errors.empty());
+  ospRelease(texels), ospRelease(texture), ospRelease(luminous), ospRelease(mesh);
+}

@@ -141,7 +141,8 @@ TEST_CASE("texture coordinates: interpolated on a quad and a triangle as the ana
   std::printf("[texture_maps] texcoord interpolation: worst |error| %.2e over %d hits\n", worst, samples);
   CHECK(worst < 1e-5);
 
-  // A mesh without texcoords reports the hit's own coordinates, as OSPRay.
+  // A mesh without texcoords reports the hit's (u, v), as OSPRay (its LightTexture test
+  // shows a 2x2 map across a quad light without texcoords).
   MeshData plain = textured_rectangle(-1.f, -0.5f, 2.f, 1.f, 0.f);
   plain.texcoords.clear();
   accel::Hit<simd::scalar> hit;

@@ -27,8 +27,39 @@ void Geometry::on_commit() {
 }
 
 void Geometry::commit_mesh() {
-  const Data* position = get_data(*this, find("vertex.position"), "vertex.position", {OSP_VEC3F});
-  if (!position) throw Error(name() + ": required parameter 'vertex.position' (array of vec3f) is missing");
+  // A deforming mesh (`motion.vertex.position`: one vec3f array per time step, spread
+  // over `time`) takes its topology and attributes from the first step.
+  std::vector<const Data*> steps;
+  if (const Data* list = get_data(*this, find("motion.vertex.position"), "motion.vertex.position", {OSP_DATA})) {
+    if (list->size() < 2)
+      throw Error(name() + ": parameter 'motion.vertex.position' needs at least two time steps, got " +
+                  std::to_string(list->size()));
+    for (std::uint64_t k = 0; k < list->size(); ++k) {
+      const std::string element = "parameter 'motion.vertex.position' element " + std::to_string(k);
+      const Object* object = list->object(k);
+      if (!object) throw Error(name() + ": " + element + " is NULL");
+      const auto* step = static_cast<const Data*>(object);
+      if (step->element_type() != OSP_VEC3F || step->dimensions() != 1)
+        throw Error(name() + ": " + element + " must be a 1D array of vec3f, got an array of " +
+                    type_name(step->element_type()));
+      if (k > 0 && step->size() != steps[0]->size())
+        throw Error(name() + ": " + element + " has " + std::to_string(step->size()) + " vertices but element 0 has " +
+                    std::to_string(steps[0]->size()));
+      steps.push_back(step);
+    }
+  }
+  const Data* position =
+      steps.empty() ? get_data(*this, find("vertex.position"), "vertex.position", {OSP_VEC3F}) : steps[0];
+  if (!position)
+    throw Error(name() + ": required parameter 'vertex.position' (array of vec3f) is missing (or give "
+                         "'motion.vertex.position' for a deforming mesh)");
+  std::pair<float, float> time{0.f, 1.f};
+  if (const Param* t = find("time"); t && !steps.empty()) {
+    time = read_range(*this, *t, "time");
+    if (time.first > time.second)
+      throw Error(name() + ": parameter 'time' must have lower <= upper, got [" + std::to_string(time.first) + ", " +
+                  std::to_string(time.second) + "]");
+  }
   const std::size_t vertices = position->size();
   const Data* index = get_data(*this, find("index"), "index", {OSP_VEC3UI, OSP_VEC3I, OSP_VEC4UI, OSP_VEC4I});
   // Without `index`, as OSPRay: consecutive vertices make triangles, or quads with `quadSoup`.
@@ -70,17 +101,21 @@ void Geometry::commit_mesh() {
   // A copy, padded for Embree: the application's arrays carry no padding guarantee.
   auto mesh = std::make_shared<MeshData>();
   mesh->vertices_per_face = corners;
+  const auto copy_positions = [&](const Data& from, PaddedVector<float>& to) {
+    if (!face_varying) return append_floats(to, from, 3);
+    // One vertex per face corner, so that every attribute can be per vertex.
+    to.reserve(3 * corners * faces);
+    for (std::size_t k = 0; k < corners * faces; ++k)
+      for (int c = 0; c < 3; ++c) to.push_back(read_float(from.element(indices[k]) + 4 * c));
+  };
+  copy_positions(*position, mesh->positions);
+  for (const Data* step : steps) copy_positions(*step, mesh->motion_positions.emplace_back());
+  mesh->time_start = time.first, mesh->time_end = time.second;
   if (!face_varying) {
-    append_floats(mesh->positions, *position, 3);
     mesh->indices = std::move(indices);
   } else {
-    // One vertex per face corner, so that every attribute can be per vertex.
-    const std::size_t n = corners * faces;
-    mesh->positions.reserve(3 * n);
-    for (std::size_t k = 0; k < n; ++k)
-      for (int c = 0; c < 3; ++c) mesh->positions.push_back(read_float(position->element(indices[k]) + 4 * c));
-    mesh->indices.resize(n);
-    for (std::size_t k = 0; k < n; ++k) mesh->indices[k] = static_cast<std::uint32_t>(k);
+    mesh->indices.resize(corners * faces);
+    for (std::size_t k = 0; k < corners * faces; ++k) mesh->indices[k] = static_cast<std::uint32_t>(k);
   }
   const auto read = [&](const Attribute& a, PaddedVector<float>& out, int components, int pad_to) {
     if (!a.data) return;

@@ -48,6 +48,7 @@ void Renderer::on_commit() {
     PathTracerParams p = common(PathTracerParams{});
     p.roulette_path_length = get_int("roulettePathLength", p.roulette_path_length);
     p.max_contribution = get_float("maxContribution", p.max_contribution);
+    p.geometry_lights = get_bool("geometryLights", p.geometry_lights);
     config = p;
   }
   // What the renderers check of their parameters, checked now with no lights or materials.

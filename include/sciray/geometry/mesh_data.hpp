@@ -1,6 +1,7 @@
 #pragma once
 // The owned form of a triangle or quad mesh, as loaders produce it.
 #include <cstdint>
+#include <vector>
 
 #include "sciray/geometry/data.hpp"
 
@@ -17,6 +18,10 @@ struct MeshData {
   PaddedVector<float> vertex_colors;    ///< r,g,b,a per vertex in [0,1], or empty
   PaddedVector<float> face_colors;      ///< r,g,b,a per face in [0,1], or empty
   PaddedVector<float> texcoords;        ///< u,v per vertex, or empty
+  /// A deforming mesh's x,y,z per vertex at each of at least two time steps spaced evenly
+  /// over [time_start, time_end] (`positions` then holds the first); empty for a rigid one.
+  std::vector<PaddedVector<float>> motion_positions;
+  float time_start = 0.f, time_end = 1.f;
 
   std::size_t vertex_count() const { return positions.size() / 3; }
   std::size_t face_count() const { return indices.size() / vertices_per_face; }

@@ -3,6 +3,7 @@
 // so it either owns them (from a loader's MeshData) or shares the caller's memory with
 // no copy; Embree reads the same memory. `validate` runs once at commit and names the
 // first bad value, so the per-ray code can trust every index.
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -10,6 +11,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "sciray/accel/embree.hpp"
 #include "sciray/accel/trace.hpp"
@@ -33,6 +35,11 @@ public:
     StridedView<float> vertex_colors;      ///< 4 floats per vertex, optional
     StridedView<float> face_colors;        ///< 4 floats per face, optional
     StridedView<float> texcoords;          ///< 2 floats (u, v) per vertex, optional
+    /// A deforming mesh: 3 floats per vertex at each of at least two time steps spaced
+    /// evenly over [time_start, time_end], which Embree interpolates linearly at each
+    /// ray's time; empty for a rigid mesh (`positions` alone).
+    std::vector<StridedView<float>> motion_positions;
+    float time_start = 0.f, time_end = 1.f;
   };
 
   /// Takes ownership of loaded data (no copy: the vectors move into the mesh).
@@ -55,6 +62,11 @@ public:
                     d.texcoords.size()) *
                        sizeof(float) +
                    d.indices.size() * sizeof(std::uint32_t);
+    for (const auto& step : d.motion_positions) {
+      arrays_.motion_positions.push_back({step.data(), step.size() / 3, 3 * sizeof(float)});
+      owned_bytes_ += step.size() * sizeof(float);
+    }
+    arrays_.time_start = d.time_start, arrays_.time_end = d.time_end;
     keep_alive_ = std::move(owned);
     note_translucency();
   }
@@ -65,6 +77,30 @@ public:
   const SharedArrays& arrays() const { return arrays_; }
   unsigned vertices_per_face() const { return arrays_.vertices_per_face; }
   std::size_t vertex_count() const { return arrays_.positions.count; }
+  /// Whether the mesh deforms over time (motion_positions).
+  bool deforming() const { return !arrays_.motion_positions.empty(); }
+  /// Whether rays at `time` see the mesh: always a rigid one, a deforming one within its
+  /// time range (as for moving instances, math/motion.hpp).
+  bool present_at(float time) const {
+    return !deforming() || (time >= arrays_.time_start && time <= arrays_.time_end);
+  }
+  /// Vertex `i` at `time` (within the time range), interpolated between time steps as
+  /// Embree does.
+  Vec3f position(std::size_t i, float time) const {
+    const auto at = [&](const StridedView<float>& view) {
+      const float* p = view.element(i);
+      return Vec3f{p[0], p[1], p[2]};
+    };
+    if (!deforming()) return at(arrays_.positions);
+    const auto& steps = arrays_.motion_positions;
+    const float span = arrays_.time_end - arrays_.time_start;
+    const float x = span > 0.f ? std::clamp((time - arrays_.time_start) / span, 0.f, 1.f) *
+                                     static_cast<float>(steps.size() - 1)
+                               : 0.f;
+    const std::size_t k = std::min(static_cast<std::size_t>(x), steps.size() - 2);
+    const float f = x - static_cast<float>(k);
+    return at(steps[k]) * (1.f - f) + at(steps[k + 1]) * f;
+  }
   std::size_t face_count() const { return arrays_.indices.count; }
   /// Triangles the mesh represents: a quad counts two unless it repeats its last index.
   std::size_t triangle_count() const {
@@ -118,6 +154,18 @@ public:
     check_optional("vertex.color", a.vertex_colors, a.positions.count, 4, "vertices");
     check_optional("color", a.face_colors, a.indices.count, 4, "faces");
     check_optional("vertex.texcoord", a.texcoords, a.positions.count, 2, "vertices");
+    if (!a.motion_positions.empty()) {
+      if (a.motion_positions.size() < 2)
+        throw Error("mesh: 'motion.vertex.position' needs at least two time steps, got 1");
+      if (!(std::isfinite(a.time_start) && std::isfinite(a.time_end) && a.time_start <= a.time_end))
+        throw Error("mesh: 'time' must be finite with lower <= upper, got [" + std::to_string(a.time_start) + ", " +
+                    std::to_string(a.time_end) + "]");
+      for (std::size_t k = 0; k < a.motion_positions.size(); ++k) {
+        const std::string step = "motion.vertex.position[" + std::to_string(k) + "]";
+        if (a.motion_positions[k].empty()) throw Error("mesh: '" + step + "' is empty");
+        check_optional(step.c_str(), a.motion_positions[k], a.positions.count, 3, "vertices");
+      }
+    }
   }
 
   Box3f bounds() const {
@@ -126,6 +174,11 @@ public:
       const float* p = arrays_.positions.element(i);
       box.extend(Vec3f{p[0], p[1], p[2]});
     }
+    for (const auto& step : arrays_.motion_positions)
+      for (std::size_t i = 0; i < step.count; ++i) {
+        const float* p = step.element(i);
+        box.extend(Vec3f{p[0], p[1], p[2]});
+      }
     return box;
   }
 
@@ -135,8 +188,19 @@ public:
   RTCGeometry create_embree_geometry(const accel::Device& device) const {
     const bool quads = arrays_.vertices_per_face == 4;
     accel::GeometryHandle geometry(device, quads ? RTC_GEOMETRY_TYPE_QUAD : RTC_GEOMETRY_TYPE_TRIANGLE);
-    rtcSetSharedGeometryBuffer(geometry.get(), RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-                               arrays_.positions.base, 0, arrays_.positions.byte_stride, arrays_.positions.count);
+    if (deforming()) {
+      const auto steps = static_cast<unsigned>(arrays_.motion_positions.size());
+      rtcSetGeometryTimeStepCount(geometry.get(), steps);
+      for (unsigned k = 0; k < steps; ++k) {
+        const StridedView<float>& step = arrays_.motion_positions[k];
+        rtcSetSharedGeometryBuffer(geometry.get(), RTC_BUFFER_TYPE_VERTEX, k, RTC_FORMAT_FLOAT3, step.base, 0,
+                                   step.byte_stride, step.count);
+      }
+      rtcSetGeometryTimeRange(geometry.get(), arrays_.time_start, arrays_.time_end);
+    } else {
+      rtcSetSharedGeometryBuffer(geometry.get(), RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                 arrays_.positions.base, 0, arrays_.positions.byte_stride, arrays_.positions.count);
+    }
     rtcSetSharedGeometryBuffer(geometry.get(), RTC_BUFFER_TYPE_INDEX, 0,
                                quads ? RTC_FORMAT_UINT4 : RTC_FORMAT_UINT3, arrays_.indices.base, 0,
                                arrays_.indices.byte_stride, arrays_.indices.count);
@@ -172,7 +236,7 @@ public:
       const auto uv = interpolate<Arch, 2>(a.texcoords, corners);
       s.uv = {uv[0], uv[1]};
     } else {
-      s.uv = {hit.u, hit.v};  // OSPRay's texture coordinates without any: the hit's own
+      s.uv = {hit.u, hit.v};  // as OSPRay: the hit's own coordinates (a quad's spans [0, 1]^2)
     }
     if (!a.normals.empty()) {
       const auto n = interpolate<Arch, 3>(a.normals, corners);

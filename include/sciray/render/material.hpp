@@ -95,11 +95,14 @@ struct AlloyMaterial {
   float roughness = 0.1f;
 };
 
-/// OSPRay `luminous`: emits `color * intensity`; `transparency` lets light through.
+/// OSPRay `luminous`: emits `color * intensity` (times `map_color`) from both faces;
+/// `transparency` lets light through. The path tracer samples such surfaces as lights
+/// (render/geometry_light.hpp).
 struct LuminousMaterial {
   Vec3f color{1.f, 1.f, 1.f};
   float intensity = 1.f;
   float transparency = 0.f;
+  TextureMap map_color{};
 };
 
 /// The material index of geometries added without one: they show their own colours,
@@ -167,6 +170,8 @@ void maps_of(M& m, Map&& map) {
   } else if constexpr (std::is_same_v<T, PrincipledMaterial>) {
     map("map_baseColor", m.map_base_color), map("map_roughness", m.map_roughness);
     map("map_metallic", m.map_metallic), map("map_opacity", m.map_opacity);
+  } else if constexpr (std::is_same_v<T, LuminousMaterial>) {
+    map("map_color", m.map_color);
   }
 }
 
@@ -233,7 +238,7 @@ void for_each_parameter(Material& material, Read&& read) {
 
 /// Calls map(name, TextureMap&) for every texture map `material`'s type has, under its
 /// OSPRay name (obj: map_kd, map_ks, map_ns, map_d; principled: map_baseColor,
-/// map_roughness, map_metallic, map_opacity; other types have none).
+/// map_roughness, map_metallic, map_opacity; luminous: map_color; other types have none).
 template <class Map>
 void for_each_map(Material& material, Map&& map) {
   std::visit([&](auto& m) { detail::maps_of(m, map); }, material);
@@ -282,6 +287,8 @@ inline const Material& textured(const Material& material, const TexCoord<float>&
           scale(m.map_base_color, out.base_color), scale(m.map_roughness, out.roughness);
           scale(m.map_metallic, out.metallic), scale(m.map_opacity, out.opacity);
           unit(out.roughness), unit(out.metallic), unit(out.opacity);
+        } else if constexpr (std::is_same_v<M, LuminousMaterial>) {
+          scale(m.map_color, out.color);
         }
       },
       material);

@@ -9,6 +9,11 @@
 // or when the BSDF absorbs them; `maxContribution` clamps fireflies (biased, off by
 // default). Rays travel in packets; each lane's path is shaded on its own.
 //
+// Emissive geometry (luminous, principled emissiveColor) is a light too: meshes and
+// spheres, direct or instanced, moving or deforming, are sampled by area
+// (render/geometry_light.hpp) and weighed against BSDF sampling like every other light
+// with size; emitters of other types are found by BSDF sampling alone.
+//
 // Shadow rays are blocked by any surface, transparent or not: light through glass
 // arrives only along BSDF-sampled paths (caustics from lights with size and from the
 // environment, none from point lights).
@@ -27,6 +32,7 @@
 #include "sciray/math/random.hpp"
 #include "sciray/render/bsdf.hpp"
 #include "sciray/render/common.hpp"
+#include "sciray/render/geometry_light.hpp"
 #include "sciray/render/phase.hpp"
 
 namespace sciray {
@@ -41,6 +47,8 @@ struct PathTracerParams : RendererParams {
   int roulette_path_length = 5;  ///< roulettePathLength: bounces before Russian roulette starts
   float max_contribution = std::numeric_limits<float>::infinity();  ///< maxContribution
   LightSampling light_sampling = LightSampling::mis;
+  /// geometryLights: emissive geometry is sampled as a light (else found by BSDF sampling only)
+  bool geometry_lights = true;
 };
 
 template <class Arch, class WorldT>
@@ -52,7 +60,11 @@ public:
   static constexpr int W = simd::width<Arch>;
 
   PathTracer(const WorldT& world, const PathTracerParams& params)
-      : world_(&world), params_(params) {
+      : world_(&world),
+        params_(params),
+        geometry_lights_(params.light_sampling == LightSampling::bsdf_only || !params.geometry_lights
+                             ? GeometryLights<WorldT>()
+                             : GeometryLights<WorldT>(world, params.materials)) {
     validate(params_, world.materials_needed(), "pathtracer");
     if (params_.roulette_path_length < 0)
       throw Error("pathtracer renderer: parameter 'roulettePathLength' must not be negative");
@@ -151,7 +163,8 @@ public:
         p.p = s.p;
         p.material = &textured(material(s), s.uv, p.textured_material);
         const Material& m = *p.material;
-        add(p, p.throughput * emitted(m, p.sp, -p.dir), depth);
+        if (const Vec3f e = emitted(m, p.sp, -p.dir); std::max({e.x, e.y, e.z}) > 0.f)
+          add(p, p.throughput * e * emission_weight(p, hit, i, s.ng, simd::lane(camera_ray.time, i)), depth);
         if (depth == 0) {
           p.alpha = 1.f;
           const Vec3f a = albedo(m, p.sp);
@@ -167,6 +180,7 @@ public:
       }
 
       sample_lights(path, vertex, camera_ray.time);
+      sample_geometry_lights(path, vertex, camera_ray.time);
 
       // Continue each path by sampling its BSDF or phase function.
       for (int i = 0; i < W; ++i) {
@@ -353,16 +367,11 @@ private:
   /// shadow rays of one light traced as a packet (at the camera rays' `time`) and
   /// attenuated by the volumes they cross.
   void sample_lights(Path* path, const Vertex* vertex, const F& time) const {
-    constexpr float inf = std::numeric_limits<float>::infinity();
+    // Without light sampling only BSDF-sampled rays find lights; delta lights then vanish.
+    if (params_.light_sampling == LightSampling::bsdf_only) return;
     for (const Light& light : params_.lights) {
-      // Without light sampling only BSDF-sampled rays find lights; delta lights then vanish.
-      if (params_.light_sampling == LightSampling::bsdf_only) break;
-      alignas(64) float ray_lanes[7][W];
-      Vec3f contribution[W];
-      bool any = false;
+      Shadow shadow[W];
       for (int i = 0; i < W; ++i) {
-        for (auto& c : ray_lanes) c[i] = 0.f;
-        contribution[i] = splat(0.f);
         Path& p = path[i];
         const Vertex& v = vertex[i];
         if (!p.alive || v.kind == Vertex::Kind::none) continue;
@@ -370,48 +379,156 @@ private:
         const auto u = p.rng.next_2d();
         const std::optional<LightSample> ls = sample(light, p.p, medium ? splat(0.f) : p.sp.n, u.u, u.v);
         if (!ls) continue;
-        BsdfValue f;
-        if (medium) {
-          f.pdf = henyey_greenstein(dot(p.dir, ls->dir), v.anisotropy);
-          f.f_cos = splat(f.pdf);
-        } else {
-          f = eval(*p.material, p.sp, -p.dir, ls->dir);
-        }
+        const BsdfValue f = scattering(p, v, ls->dir);
         if (!(std::max({f.f_cos.x, f.f_cos.y, f.f_cos.z}) > 0.f)) continue;
         const float w = std::isfinite(ls->pdf) && params_.light_sampling == LightSampling::mis
                             ? power_heuristic(ls->pdf, f.pdf)
                             : 1.f;
-        contribution[i] = p.throughput * f.f_cos * ls->weight * w;
-        Vec3f org = p.p;
-        if (!medium) {
-          const bool below = dot(ls->dir, p.sp.ng) < 0.f;  // transmission: leave from the other side
-          org = org + (below ? -p.sp.ng : p.sp.ng) * detail::ray_offset(p.p, scene_size_);
-        }
-        const float c[7] = {org.x, org.y, org.z, ls->dir.x, ls->dir.y, ls->dir.z,
-                            std::isfinite(ls->dist) ? ls->dist * (1.f - 1e-4f) : inf};
-        for (int k = 0; k < 7; ++k) ray_lanes[k][i] = c[k];
-        any = true;
+        shadow[i] = {p.throughput * f.f_cos * ls->weight * w, ls->dir,
+                     std::isfinite(ls->dist) ? ls->dist * (1.f - 1e-4f) : std::numeric_limits<float>::infinity(),
+                     std::nullopt};
       }
-      if (!any) continue;
-      alignas(64) float wanted[W];
-      for (int i = 0; i < W; ++i)
-        wanted[i] = std::max({contribution[i].x, contribution[i].y, contribution[i].z}) > 0.f ? 1.f : 0.f;
-      Ray<F> shadow;
-      shadow.org = {simd::load<Arch>(ray_lanes[0]), simd::load<Arch>(ray_lanes[1]), simd::load<Arch>(ray_lanes[2])};
-      shadow.dir = {simd::load<Arch>(ray_lanes[3]), simd::load<Arch>(ray_lanes[4]), simd::load<Arch>(ray_lanes[5])};
-      shadow.tnear = F(0.f);
-      shadow.tfar = simd::load<Arch>(ray_lanes[6]);
-      shadow.time = time;
-      const M cast = simd::load<Arch>(wanted) > F(0.f);
-      const M unblocked = cast & !accel::occluded<Arch>(world_->scene(), shadow, cast, false, world_->hit_filter());
-      const F transmittance = volume_transmittance(path, shadow, unblocked);
-      for (int i = 0; i < W; ++i)
-        if (simd::lane(unblocked, i)) add(path[i], contribution[i] * simd::lane(transmittance, i), 1);
+      cast_shadow_rays(path, vertex, shadow, time);
     }
+  }
+
+  /// Next-event estimation of emissive geometry: one point on an emitter for every path
+  /// at a vertex, its emission read from the surface there as a hit would (the synthetic
+  /// hits go through for_each_surface as a packet), weighed against BSDF sampling.
+  void sample_geometry_lights(Path* path, const Vertex* vertex, const F& time) const {
+    if (geometry_lights_.empty()) return;
+    alignas(64) float lanes[12][W];  // ray origin and direction; hit t, u, v, ng
+    alignas(64) std::int32_t ids[3][W];
+    float pdf_area[W];
+    for (int i = 0; i < W; ++i) {
+      for (auto& c : lanes) c[i] = 0.f;
+      lanes[3][i] = 1.f;  // a unit direction in unused lanes
+      for (auto& c : ids) c[i] = -1;
+      Path& p = path[i];
+      if (!p.alive || vertex[i].kind == Vertex::Kind::none) continue;
+      const float u_pick = p.rng.next_1d();
+      const auto u = p.rng.next_2d();
+      const std::optional<EmitterSample> e = geometry_lights_.sample(u_pick, u.u, u.v, simd::lane(time, i));
+      if (!e) continue;
+      const Vec3f d = e->p - p.p;
+      const float dist = length(d);
+      if (!(dist > 0.f)) continue;
+      const Vec3f w = d / dist;
+      const float c[12] = {p.p.x, p.p.y, p.p.z, w.x, w.y, w.z, dist, e->u, e->v, e->ng_object.x, e->ng_object.y, e->ng_object.z};
+      for (int k = 0; k < 12; ++k) lanes[k][i] = c[k];
+      ids[0][i] = static_cast<std::int32_t>(e->prim_id);
+      ids[1][i] = static_cast<std::int32_t>(e->geom_id);
+      ids[2][i] = static_cast<std::int32_t>(e->inst_id);
+      pdf_area[i] = e->pdf_area;
+    }
+    Ray<F> ray;
+    ray.org = {simd::load<Arch>(lanes[0]), simd::load<Arch>(lanes[1]), simd::load<Arch>(lanes[2])};
+    ray.dir = {simd::load<Arch>(lanes[3]), simd::load<Arch>(lanes[4]), simd::load<Arch>(lanes[5])};
+    ray.time = time;
+    accel::Hit<Arch> hit;
+    hit.prim_id = simd::load<Arch>(ids[0]), hit.geom_id = simd::load<Arch>(ids[1]), hit.inst_id = simd::load<Arch>(ids[2]);
+    hit.t = simd::load<Arch>(lanes[6]), hit.u = simd::load<Arch>(lanes[7]), hit.v = simd::load<Arch>(lanes[8]);
+    hit.hit = hit.t > F(0.f);  // the lanes with a sample
+    if (!simd::any(hit.hit)) return;
+    hit.ng = {simd::load<Arch>(lanes[9]), simd::load<Arch>(lanes[10]), simd::load<Arch>(lanes[11])};
+    Shadow shadow[W];
+    detail::for_each_surface<Arch>(*world_, ray, hit, hit.hit, [&](int i, const SurfacePoint& s) {
+      const Path& p = path[i];
+      Material storage;
+      const Material& m = textured(material(s), s.uv, storage);
+      const Vec3f w{lanes[3][i], lanes[4][i], lanes[5][i]};
+      const Vec3f radiance = emitted(m, {s.n, s.ng, s.front, s.color, s.alpha}, -w);
+      const float dist = lanes[6][i], cos_light = std::abs(dot(w, s.ng));
+      if (!(std::max({radiance.x, radiance.y, radiance.z}) > 0.f) || !(cos_light > 0.f)) return;
+      const float light_pdf = pdf_area[i] * dist * dist / cos_light;  // per solid angle
+      const BsdfValue f = scattering(p, vertex[i], w);
+      if (!(std::max({f.f_cos.x, f.f_cos.y, f.f_cos.z}) > 0.f)) return;
+      const float mis = params_.light_sampling == LightSampling::mis ? power_heuristic(light_pdf, f.pdf) : 1.f;
+      // The shadow ray ends just off the emitter, on the side it leaves towards the path.
+      const Vec3f end = s.p + s.ng * detail::ray_offset(s.p, scene_size_);
+      shadow[i] = {p.throughput * f.f_cos * radiance * (mis / light_pdf), w, 0.f, end};
+    });
+    cast_shadow_rays(path, vertex, shadow, time);
+  }
+
+  /// The weight of emission a path finds on surface `hit` lane i (distance t, world
+  /// geometric normal ng) against the chance that light sampling found it: 1 for the
+  /// camera ray, after specular bounces and on emitters light sampling does not pick.
+  float emission_weight(const Path& p, const accel::Hit<Arch>& hit, int i, const Vec3f& ng, float time) const {
+    if (p.previous_delta || geometry_lights_.empty()) return 1.f;
+    const Vec3f ng_object{simd::lane(hit.ng.x, i), simd::lane(hit.ng.y, i), simd::lane(hit.ng.z, i)};
+    const float pdf_area = geometry_lights_.pdf_area(static_cast<std::uint32_t>(simd::lane(hit.inst_id, i)),
+                                                     static_cast<std::uint32_t>(simd::lane(hit.geom_id, i)),
+                                                     static_cast<std::uint32_t>(simd::lane(hit.prim_id, i)), ng_object, time);
+    if (!(pdf_area > 0.f)) return 1.f;
+    if (params_.light_sampling == LightSampling::lights_only) return 0.f;
+    const float t = simd::lane(hit.t, i), cos_light = std::abs(dot(p.dir, ng));
+    return cos_light > 0.f ? power_heuristic(p.previous_pdf, pdf_area * t * t / cos_light) : 1.f;
+  }
+
+  /// What a path's vertex scatters towards wi: the phase function in a medium, the BSDF
+  /// (times the cosine) on a surface.
+  BsdfValue scattering(const Path& p, const Vertex& v, const Vec3f& wi) const {
+    if (v.kind != Vertex::Kind::medium) return eval(*p.material, p.sp, -p.dir, wi);
+    BsdfValue f;
+    f.pdf = henyey_greenstein(dot(p.dir, wi), v.anisotropy);
+    f.f_cos = splat(f.pdf);
+    return f;
+  }
+
+  /// A light sample's contribution to one path, if nothing blocks the shadow ray of
+  /// direction `dir` and length `reach`, or, to a point on a surface, the ray that ends
+  /// at `end` (from wherever the ray starts off the path's surface: at grazing angles
+  /// that offset moves the emitter's plane along the ray by more than any fixed margin).
+  struct Shadow {
+    Vec3f contribution{0.f, 0.f, 0.f};
+    Vec3f dir{0.f, 0.f, 1.f};
+    float reach = 0.f;
+    std::optional<Vec3f> end;
+  };
+
+  /// Traces the shadow rays of the lanes with a contribution as a packet (off each
+  /// surface on the side they leave) and adds what arrives, attenuated by volumes.
+  void cast_shadow_rays(Path* path, const Vertex* vertex, const Shadow* shadow, const F& time) const {
+    alignas(64) float ray_lanes[8][W];
+    bool any = false;
+    for (int i = 0; i < W; ++i) {
+      const Shadow& s = shadow[i];
+      const bool wanted = std::max({s.contribution.x, s.contribution.y, s.contribution.z}) > 0.f;
+      any |= wanted;
+      Vec3f org = path[i].p;
+      if (wanted && vertex[i].kind == Vertex::Kind::surface) {
+        const Vec3f& ng = path[i].sp.ng;
+        const bool below = dot(s.dir, ng) < 0.f;  // transmission: leave from the other side
+        org = org + (below ? -ng : ng) * detail::ray_offset(org, scene_size_);
+      }
+      Vec3f dir = s.dir;
+      float reach = s.reach;
+      if (s.end) {
+        const Vec3f d = *s.end - org;
+        reach = length(d);
+        dir = reach > 0.f ? d / reach : s.dir;
+      }
+      const float c[8] = {org.x, org.y, org.z, dir.x, dir.y, dir.z, reach, wanted ? 1.f : 0.f};
+      for (int k = 0; k < 8; ++k) ray_lanes[k][i] = wanted ? c[k] : 0.f;
+    }
+    if (!any) return;
+    Ray<F> ray;
+    ray.org = {simd::load<Arch>(ray_lanes[0]), simd::load<Arch>(ray_lanes[1]), simd::load<Arch>(ray_lanes[2])};
+    ray.dir = {simd::load<Arch>(ray_lanes[3]), simd::load<Arch>(ray_lanes[4]), simd::load<Arch>(ray_lanes[5])};
+    ray.tnear = F(0.f);
+    ray.tfar = simd::load<Arch>(ray_lanes[6]);
+    ray.time = time;
+    const M cast = simd::load<Arch>(ray_lanes[7]) > F(0.f);
+    const M unblocked = cast & !accel::occluded<Arch>(world_->scene(), ray, cast, false, world_->hit_filter());
+    const F transmittance = volume_transmittance(path, ray, unblocked);
+    for (int i = 0; i < W; ++i)
+      if (simd::lane(unblocked, i)) add(path[i], shadow[i].contribution * simd::lane(transmittance, i), 1);
   }
 
   const WorldT* world_;
   PathTracerParams params_;
+  GeometryLights<WorldT> geometry_lights_;  ///< emissive geometry, for light sampling
   float scene_size_ = 1.f;
   std::vector<bool> normal_mapped_;  ///< per material: has a normal map
 };

@@ -273,6 +273,7 @@ public:
 
   std::size_t instance_count() const { return instances_.size(); }
   const MotionTransform& instance_motion(std::uint32_t instance) const { return instances_.at(instance).motion; }
+  const GroupType& instance_group(std::uint32_t instance) const { return *instances_.at(instance).group; }
 
   /// Builds the groups not yet built, then the top-level BVH over direct geometries and
   /// instances.
