@@ -265,18 +265,6 @@ void TextureObject::commit_texture2d() {
     }
     return Vec3f{c[0], c[1], c[2]};
   });
-  // As a normal map: the raw channels, of formats with three or four.
-  std::vector<Vec3f> normal_texels;
-  if (layout->channels >= 3) {
-    const float scale = layout->channel == Channel::unorm8    ? 255.f / 127.f
-                        : layout->channel == Channel::unorm16 ? 65535.f / 32767.f
-                                                              : 2.f;
-    normal_texels = data->to_vector<Vec3f>([&](const std::byte* e) {
-      // Negative channels (float formats) clamp to 0: the texture holds no negative texel.
-      const auto raw = [&](int k) { return std::max(read_channel(e, layout->channel, k), 0.f); };
-      return normal_map_texel({raw(0), raw(1), raw(2)}, scale);
-    });
-  }
   const bool nearest = get_int("filter", OSP_TEXTURE_FILTER_LINEAR) == OSP_TEXTURE_FILTER_NEAREST;
   // `wrapMode`: one OSPTextureWrapMode for both axes, or a vec2ui/vec2i of one per axis.
   int wrap[2] = {OSP_TEXTURE_WRAP_REPEAT, OSP_TEXTURE_WRAP_REPEAT};
@@ -290,20 +278,41 @@ void TextureObject::commit_texture2d() {
       throw Error(name() + ": parameter 'wrapMode' must be OSP_TEXTURE_WRAP_REPEAT (0), _MIRRORED_REPEAT (1) or "
                            "_CLAMP_TO_EDGE (2), got " + std::to_string(m));
   try {
-    const auto make = [&](std::vector<Vec3f> values) {
+    const auto make = [data, nearest, wrap](std::vector<Vec3f> values) {  // by value: normal_source keeps it
       auto image = std::make_shared<Texture2D>(static_cast<int>(data->counts()[0]),
                                                static_cast<int>(data->counts()[1]), std::move(values), nearest);
       image->set_wrap(static_cast<TextureWrap>(wrap[0]), static_cast<TextureWrap>(wrap[1]));
       return image;
     };
     auto image = make(std::move(texels));
-    std::shared_ptr<const Texture2D> normal_image;
-    if (!normal_texels.empty()) normal_image = make(std::move(normal_texels));
+    // As a normal map: the raw channels of formats with three or four, decoded at the
+    // first use as one (most textures never are, and keep no second copy of their texels).
+    std::function<std::shared_ptr<const Texture2D>()> normal_source;
+    if (layout->channels >= 3)
+      normal_source = [data_ref = p->object, layout, make] {
+        const auto* raw_data = static_cast<const Data*>(data_ref.get());
+        const float scale = layout->channel == Channel::unorm8    ? 255.f / 127.f
+                            : layout->channel == Channel::unorm16 ? 65535.f / 32767.f
+                                                                  : 2.f;
+        return make(raw_data->to_vector<Vec3f>([&](const std::byte* e) {
+          // Negative channels (float formats) clamp to 0: the texture holds no negative texel.
+          const auto raw = [&](int k) { return std::max(read_channel(e, layout->channel, k), 0.f); };
+          return normal_map_texel({raw(0), raw(1), raw(2)}, scale);
+        }));
+      };
     image_ = std::move(image);
-    normal_image_ = std::move(normal_image);
+    const std::lock_guard lock(normal_image_mutex_);
+    normal_source_ = std::move(normal_source);
+    normal_image_.reset();
   } catch (const Error& e) {
     throw Error(name() + ": " + e.what());
   }
+}
+
+std::shared_ptr<const Texture2D> TextureObject::normal_image() const {
+  const std::lock_guard lock(normal_image_mutex_);
+  if (!normal_image_ && normal_source_) normal_image_ = normal_source_();
+  return normal_image_;
 }
 
 void TextureObject::on_commit() {

@@ -5,6 +5,7 @@
 // lights, materials and renderers. Each reads its committed parameters in on_commit and names the parameter
 // when one is wrong.
 #include <array>
+#include <functional>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -152,9 +153,10 @@ public:
   }
   /// The image of a texture2d (null for a volume texture).
   const std::shared_ptr<const Texture2D>& image() const { return image_; }
-  /// The image as a normal map's texels (normal_map_texel) from the raw channels; null for
-  /// formats of one or two channels, which OSPRay's normal maps ignore.
-  const std::shared_ptr<const Texture2D>& normal_image() const { return normal_image_; }
+  /// The image as a normal map's texels (normal_map_texel) from the raw channels, made at
+  /// the first call after a commit; null for formats of one or two channels, which
+  /// OSPRay's normal maps ignore.
+  std::shared_ptr<const Texture2D> normal_image() const;
   /// Also counts the commits of a volume texture's volume and transfer function (or model).
   std::uint64_t version() const override;
 
@@ -167,7 +169,10 @@ private:
   Ref<VolumetricModelObject> model_;  ///< OSPRay 2's form
   Ref<VolumeObject> volume_;          ///< OSPRay 3's form, with transfer_function_
   Ref<TransferFunctionObject> transfer_function_;
-  std::shared_ptr<const Texture2D> image_, normal_image_;
+  std::shared_ptr<const Texture2D> image_;
+  std::function<std::shared_ptr<const Texture2D>()> normal_source_;  ///< null for 1 or 2 channels
+  mutable std::mutex normal_image_mutex_;
+  mutable std::shared_ptr<const Texture2D> normal_image_;
 };
 
 /// The `kd` an obj material has where none is given (OSPRay's default), which is also
