@@ -66,7 +66,8 @@ public:
         group.visit(id, [&](const auto& geometry) { add(geometry, inst_id, id, placement, strength); });
       }
     };
-    collect(world, RTC_INVALID_GEOMETRY_ID, nullptr);
+    // As its group of direct geometries: a VolumeWorld's own visit() is over its volumes.
+    collect(static_cast<const typename WorldT::GroupType&>(world), RTC_INVALID_GEOMETRY_ID, nullptr);
     const auto first_instance = static_cast<std::uint32_t>(world.geometry_count());
     for (std::uint32_t i = 0; i < world.instance_count(); ++i)
       collect(world.instance_group(i), first_instance + i, &world.instance_motion(i));
