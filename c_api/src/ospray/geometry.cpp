@@ -423,13 +423,14 @@ void GeometricModel::on_commit() {
       throw Error(name() + ": " + why);
   // Shading is two-sided, so the side matters only to clipping geometry.
   const bool invert_normals = get_bool("invertNormals", false);
-  get_int("id", 0);
+  const std::optional<std::uint32_t> user_id = get_user_id();
   geometry_ = std::move(geometry);
   material_ = std::move(material);
   material_choices_ = std::move(choices);
   face_colors_ = std::move(face_colors);
   uniform_color_ = uniform_color;
   invert_normals_ = invert_normals;
+  user_id_ = user_id;
 }
 
 std::optional<Vec3f> GeometricModel::material_color() const {

@@ -234,6 +234,15 @@ int Object::get_int(const std::string& id, int fallback) const {
   }
 }
 
+std::optional<std::uint32_t> Object::get_user_id() const {
+  const Param* p = find("id");
+  if (!p) return std::nullopt;
+  if (p->type != OSP_UINT) wrong_type(*this, "id", *p, "a uint (OSPRay reads the user id only as OSP_UINT)");
+  const auto id = load<std::uint32_t>(*p);
+  if (id == 0xFFFFFFFFu) return std::nullopt;
+  return id;
+}
+
 bool Object::get_bool(const std::string& id, bool fallback) const {
   const Param* p = find(id);
   if (!p) return fallback;

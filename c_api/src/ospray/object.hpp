@@ -8,6 +8,7 @@
 #include <cstring>
 #include <map>
 #include <mutex>
+#include <optional>
 #include <set>
 #include <string>
 #include <type_traits>
@@ -137,6 +138,10 @@ protected:
   float get_float(const std::string& id, float fallback) const;
   int get_int(const std::string& id, int fallback) const;
   bool get_bool(const std::string& id, bool fallback) const;
+  /// OSPRay 3's `id` of models and instances: what the id channels show in place of the
+  /// object's index; empty where unset or 0xFFFFFFFF (OSPRay's "none"). Read as OSPRay
+  /// reads it, a uint only: another type is an error, as OSPRay would ignore it.
+  std::optional<std::uint32_t> get_user_id() const;
   Vec3f get_vec3f(const std::string& id, Vec3f fallback) const;
   /// Reads a float, bool or vec3f parameter into `field`, which keeps its value where the
   /// parameter is unset.

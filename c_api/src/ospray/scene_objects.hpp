@@ -113,6 +113,8 @@ public:
   VolumeObject* volume() const { return volume_.get(); }
   TransferFunctionObject* transfer_function() const { return transfer_function_.get(); }
   float density_scale() const { return density_scale_; }
+  /// `id`: what the object id channel shows in place of the model's index in its group.
+  std::optional<std::uint32_t> user_id() const { return user_id_; }
   Box3f bounds() const { return volume_ ? volume_->bounds() : Box3f{}; }
   std::uint64_t version() const override;
   /// The engine model for the current commits of the volume and the transfer function:
@@ -129,6 +131,7 @@ private:
   float density_scale_ = 1.f;
   float anisotropy_ = 0.f;
   float gradient_shading_scale_ = 0.f;
+  std::optional<std::uint32_t> user_id_;
   std::mutex mutex_;  ///< guards the engine model, which world builds refresh
   EngineVolumetricModel model_;
   std::uint64_t model_volume_version_ = 0;  ///< the volume commit the model was built from
@@ -320,6 +323,8 @@ public:
   /// `invertNormals`: as clipping geometry, the model clips its outside instead of its
   /// inside (shading is two-sided, so it changes nothing else).
   bool invert_normals() const { return invert_normals_; }
+  /// `id`: what the object id channel shows in place of the model's index in its group.
+  std::optional<std::uint32_t> user_id() const { return user_id_; }
   std::uint64_t version() const override;
 
 protected:
@@ -333,6 +338,7 @@ private:
   /// One `color` (RGBA) for all primitives; its alpha is below 1 only on curves.
   std::optional<std::array<float, 4>> uniform_color_;
   bool invert_normals_ = false;
+  std::optional<std::uint32_t> user_id_;
 };
 
 class Light : public Object {
@@ -394,6 +400,8 @@ public:
   const MotionTransform& placement() const { return placement_; }
   /// Around the group wherever its placement puts it.
   Box3f bounds() const;
+  /// `id`: what the instance id channel shows in place of the instance's index.
+  std::optional<std::uint32_t> user_id() const { return user_id_; }
   std::uint64_t version() const override;
 
 protected:
@@ -402,6 +410,7 @@ protected:
 private:
   Ref<Group> group_;
   MotionTransform placement_;
+  std::optional<std::uint32_t> user_id_;
 };
 
 

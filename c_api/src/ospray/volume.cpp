@@ -226,6 +226,7 @@ void VolumetricModelObject::on_commit() {
   if (!(gradient_shading_scale >= 0.f && gradient_shading_scale <= 1.f))
     throw Error(name() + ": parameter 'gradientShadingScale' must be in [0, 1], got " +
                 std::to_string(gradient_shading_scale));
+  const std::optional<std::uint32_t> user_id = get_user_id();
 
   std::lock_guard lock(mutex_);
   EngineVolumetricModel model;
@@ -258,6 +259,7 @@ void VolumetricModelObject::on_commit() {
   density_scale_ = density_scale;
   anisotropy_ = anisotropy;
   gradient_shading_scale_ = gradient_shading_scale;
+  user_id_ = user_id;
 }
 
 std::uint64_t VolumetricModelObject::version() const {

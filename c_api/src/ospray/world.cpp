@@ -120,8 +120,10 @@ void Instance::on_commit() {
   Ref<Group> group = get_object<Group>("group", OSP_GROUP, true);
   if (!group->committed()) throw Error(name() + ": its group has not been committed");
   MotionTransform placement = read_placement(*this, [this](const std::string& id) { return find(id); });
+  const std::optional<std::uint32_t> user_id = get_user_id();
   group_ = std::move(group);
   placement_ = std::move(placement);
+  user_id_ = user_id;
 }
 
 // The transformed box of the group's bounds: the engine's instance is the exact
@@ -443,6 +445,7 @@ std::shared_ptr<const BuiltGroup> World::build_group(Group& group, const shim::I
     } else {
       add(model_mesh(*model, built->keep_alive));
     }
+    if (const auto id = model->user_id()) built->group->set_object_id(static_cast<std::uint32_t>(k), *id);
     built->models.push_back(model);
   }
   // Committed with the world, through the kernels (sciray's intersectors are per ISA).
@@ -481,13 +484,20 @@ std::shared_ptr<const BuiltWorld> World::built(const shim::IsaKernels& kernels, 
   for (std::size_t i = 0; i < instances_.size(); ++i) {
     const auto& instance = instances_[i];
     Group* group = instance->group();
-    for (const auto& model : group->volumes()) {
+    // What the id channels show: the user ids, else the indices in the world and group.
+    const std::uint32_t instance_id = instance->user_id().value_or(static_cast<std::uint32_t>(i));
+    for (std::size_t k = 0; k < group->volumes().size(); ++k) {
+      const auto& model = group->volumes()[k];
       try {
+        std::size_t volume;
         if (const auto placed = placed_models.find(model.get()); placed != placed_models.end())
-          built->world->place_volume(placed->second, instance->placement());
+          volume = built->world->place_volume(placed->second, instance->placement());
         else
-          placed_models.emplace(model.get(),
-                                add_volume(*built->world, model->engine_model(volumes), instance->placement()));
+          volume = placed_models.emplace(model.get(), add_volume(*built->world, model->engine_model(volumes),
+                                                                 instance->placement()))
+                       .first->second;
+        built->world->set_volume_ids(volume, static_cast<std::int32_t>(model->user_id().value_or(static_cast<std::uint32_t>(k))),
+                                     static_cast<std::int32_t>(instance_id));
       } catch (const Error& e) {
         throw Error(name() + ": instance " + std::to_string(i) + " (" + instance->name() + "), its group's " +
                     model->name() + ": " + e.what());
@@ -510,7 +520,8 @@ std::shared_ptr<const BuiltWorld> World::built(const shim::IsaKernels& kernels, 
     }
     const BuiltGroup& placed = *built->groups[at->second];
     if (!placed.group) continue;  // no geometry: nothing to place
-    built->world->add_instance(placed.group, instance->placement());
+    const std::uint32_t engine_instance = built->world->add_instance(placed.group, instance->placement());
+    built->world->set_instance_id(engine_instance, instance_id);
     built->instances.push_back({instance, at->second});
   }
   // Every instance's clipping geometry, also of groups with nothing to render, clips the

@@ -128,6 +128,8 @@ std::uint32_t render_frame(const Renderer& renderer, const CameraT& camera, Fram
   bool uses_time = false;
   if constexpr (requires { camera.uses_time_sample(); }) uses_time = camera.uses_time_sample();
 
+  const bool first_hit_channels = fb.has(channel_depth) || fb.has(channel_id_primitive) ||
+                                  fb.has(channel_id_object) || fb.has(channel_id_instance);
   tbb::parallel_for(tbb::blocked_range<int>(0, tile_count), [&](const tbb::blocked_range<int>& range) {
     alignas(64) std::int32_t pixel[W];
     alignas(64) float inside[W];
@@ -173,7 +175,8 @@ std::uint32_t render_frame(const Renderer& renderer, const CameraT& camera, Fram
               const F time_u = uses_time ? time_sample<Arch>(pixels, sample_index) : F(0.5f);
               const auto ray = camera.generate(screen_x, screen_y, cs.lens_u, cs.lens_v, time_u);
               PixelSample<Arch> one =
-                  renderer.render(ray, active, SampleIndex<Arch>{pixels, sample_index, screen_x, screen_y, center_x, center_y});
+                  renderer.render(ray, active, SampleIndex<Arch>{pixels, sample_index, screen_x, screen_y, center_x,
+                                                                 center_y, first_hit_channels});
               projected = camera.projected_depth(ray, one.t);
               return one;
             };

@@ -233,6 +233,63 @@ void for_each_surface(const WorldT& world, const Ray<simd::Float<Arch>>& ray, co
   });
 }
 
+/// Records the surface hits of `hit` as a packet's first hit in `out` (t, and the ids the
+/// id channels show); lanes that missed get inf and -1.
+template <class Arch, class WorldT>
+void record_first_hit(const WorldT& world, const accel::Hit<Arch>& hit, PixelSample<Arch>& out) {
+  using Fl = simd::Float<Arch>;
+  using I = simd::Int<Arch>;
+  out.t = simd::select(hit.hit, hit.t, Fl(std::numeric_limits<float>::infinity()));
+  out.prim_id = simd::select(hit.hit, hit.prim_id, I(-1));
+  bool user_ids = false;
+  if constexpr (requires { world.user_ids(); }) user_ids = world.user_ids();
+  if (!user_ids) {
+    out.geom_id = simd::select(hit.hit, hit.geom_id, I(-1));
+    // Instances are numbered from 0 as the world added them; -1 for direct geometry.
+    const I first_instance(static_cast<std::int32_t>(world.geometry_count()));
+    const auto instanced = hit.hit & (simd::to_float(hit.inst_id) != Fl(static_cast<float>(RTC_INVALID_GEOMETRY_ID)));
+    out.inst_id = simd::select(instanced, hit.inst_id - first_instance, I(-1));
+    return;
+  }
+  out.geom_id = I(-1), out.inst_id = I(-1);
+  if constexpr (requires { world.user_ids(); })
+    for_each_hit_group<Arch>(hit, hit.hit, [&](const simd::Mask<Arch>& lanes, std::uint32_t inst, std::uint32_t geom) {
+      const auto [object, instance] = world.channel_ids(inst, geom);
+      out.geom_id = simd::select(lanes, I(object), out.geom_id);
+      out.inst_id = simd::select(lanes, I(instance), out.inst_id);
+    });
+}
+
+/// Where each lane's camera ray enters the first volume that contributes to its pixel
+/// (at depth 0: in front of any surface), and which placed volume that is; -1 where none.
+template <class Arch>
+struct VolumeEntry {
+  simd::Float<Arch> t = simd::Float<Arch>(std::numeric_limits<float>::infinity());
+  simd::Int<Arch> volume = simd::Int<Arch>(-1);
+};
+
+/// Makes the volumes that `entry` found the first hit of their lanes in `out`, as OSPRay
+/// records them: t where the ray enters the volume, primitive 0, the volume's ids.
+template <class Arch, class WorldT>
+void record_volume_entry(const WorldT& world, const VolumeEntry<Arch>& entry, PixelSample<Arch>& out) {
+  using I = simd::Int<Arch>;
+  const auto seen = simd::to_float(entry.volume) >= simd::Float<Arch>(0.f);
+  if (!simd::any(seen)) return;
+  alignas(64) std::int32_t ids[2][simd::width<Arch>];
+  simd::store<Arch>(ids[0], out.geom_id);
+  simd::store<Arch>(ids[1], out.inst_id);
+  for (int i = 0; i < simd::width<Arch>; ++i) {
+    const std::int32_t volume = simd::lane(entry.volume, i);
+    if (volume < 0) continue;
+    const auto [object, instance] = world.volume_ids(static_cast<std::size_t>(volume));
+    ids[0][i] = object, ids[1][i] = instance;
+  }
+  out.t = simd::select(seen, entry.t, out.t);
+  out.prim_id = simd::select(seen, I(0), out.prim_id);
+  out.geom_id = simd::load<Arch>(ids[0]);
+  out.inst_id = simd::load<Arch>(ids[1]);
+}
+
 /// How far a secondary ray starts off the surface it leaves, along the geometric normal:
 /// a few float ulps of the hit position (so that hits far from the origin do not shadow
 /// themselves) plus a tiny fraction of the scene.
@@ -303,12 +360,13 @@ void composite_in_depth_order(const std::vector<AlongT>& along, const std::vecto
 /// along any lane, each is integrated on its own and every lane composites them sorted by
 /// where it enters them; where they overlap, they are marched together in slabs one step
 /// of the finest long, each volume over the slab in turn, so that their samples
-/// interleave in depth as OSPRay's do.
+/// interleave in depth as OSPRay's do. `entry`, if given, gets the nearest volume with
+/// some opacity along each lane.
 template <class Arch, class WorldT, class Shade = std::nullptr_t>
 void composite_volumes(const WorldT& world, const VolumeIntegration& how, const Ray<simd::Float<Arch>>& ray,
                        const simd::Mask<Arch>& active, const simd::Float<Arch>& t_end,
                        Vec3<simd::Float<Arch>>& color, Vec3<simd::Float<Arch>>& transmittance,
-                       const Shade& shade = nullptr) {
+                       const Shade& shade = nullptr, VolumeEntry<Arch>* entry = nullptr) {
   using Fl = simd::Float<Arch>;
   using Ml = simd::Mask<Arch>;
   if constexpr (requires { world.volume_count(); }) {
@@ -324,6 +382,11 @@ void composite_volumes(const WorldT& world, const VolumeIntegration& how, const 
       world.template with_volume<Arch>(a.volume, segment, lanes, [&](const auto& model, const auto& object_ray) {
         v = model.template integrate<Arch>(object_ray, end, how, shade);
       });
+      if (entry) {
+        const Ml nearer = lanes & (v.alpha > Fl(0.f)) & (a.enter < entry->t);
+        entry->t = simd::select(nearer, a.enter, entry->t);
+        entry->volume = simd::select(nearer, simd::Int<Arch>(static_cast<std::int32_t>(a.volume)), entry->volume);
+      }
       return v;
     };
     bool overlap = false;

@@ -23,8 +23,8 @@
 // colour) does not scatter, and leaves in a direction drawn from the Henyey–Greenstein
 // phase function; next-event estimation weighs lights by the phase function and by the
 // transmittance that ratio tracking estimates along the shadow ray. Volumes do not emit.
-// The alpha channel keeps the camera ray's deterministic volume opacity (as scivis
-// integrates it), so that compositing gets an alpha without noise.
+// As in OSPRay, a camera path's first collision with a volume is its first hit: alpha 1,
+// depth and ids (primitive 0, the volume's object and instance ids) are there.
 #include <cmath>
 #include <limits>
 #include <optional>
@@ -119,10 +119,7 @@ public:
       Vertex vertex[W];
       M in_medium(false);
       if constexpr (requires { world_->volume_count(); })
-        if (world_->volume_count()) {
-          if (depth == 0) camera_volume_alpha(path, ray, live, t_event);
-          in_medium = collide_with_volumes(path, ray, live, t_event, vertex);
-        }
+        if (world_->volume_count()) in_medium = collide_with_volumes(path, ray, live, t_event, vertex);
       detail::for_each_surface<Arch>(
           *world_, ray, hit, live & !in_medium,
           [&](int i, const SurfacePoint& s) {
@@ -153,6 +150,15 @@ public:
         if (v.kind == Vertex::Kind::medium) {
           p.p = p.org + p.dir * t;
           p.throughput = p.throughput * v.albedo;
+          if (depth == 0) {
+            p.alpha = 1.f;
+            const float c[7] = {t, 0.f, 0.f, 0.f, v.albedo.x, v.albedo.y, v.albedo.z};
+            for (int k = 0; k < 7; ++k) first[k][i] = c[k];
+            if constexpr (requires { world_->volume_count(); }) {
+              const auto [object, instance] = world_->volume_ids(v.volume);
+              ids[0][i] = 0, ids[1][i] = object, ids[2][i] = instance;
+            }
+          }
           continue;
         }
         const SurfacePoint& s = v.surface;
@@ -171,11 +177,10 @@ public:
           const float c[7] = {t, s.n.x, s.n.y, s.n.z, a.x, a.y, a.z};
           for (int k = 0; k < 7; ++k) first[k][i] = c[k];
           ids[0][i] = simd::lane(hit.prim_id, i);
-          ids[1][i] = simd::lane(hit.geom_id, i);
-          const std::int32_t inst = simd::lane(hit.inst_id, i);
-          ids[2][i] = inst == static_cast<std::int32_t>(RTC_INVALID_GEOMETRY_ID)
-                          ? -1
-                          : inst - static_cast<std::int32_t>(world_->geometry_count());
+          const auto [object, instance] =
+              world_->channel_ids(static_cast<std::uint32_t>(simd::lane(hit.inst_id, i)),
+                                  static_cast<std::uint32_t>(simd::lane(hit.geom_id, i)));
+          ids[1][i] = object, ids[2][i] = instance;
         }
       }
 
@@ -230,7 +235,7 @@ public:
     alignas(64) float rgba[4][W];
     for (int i = 0; i < W; ++i) {
       rgba[0][i] = path[i].radiance.x, rgba[1][i] = path[i].radiance.y, rgba[2][i] = path[i].radiance.z;
-      rgba[3][i] = 1.f - (1.f - path[i].volume_alpha) * (1.f - path[i].alpha);
+      rgba[3][i] = path[i].alpha;
     }
     out.color = {simd::load<Arch>(rgba[0]), simd::load<Arch>(rgba[1]), simd::load<Arch>(rgba[2])};
     out.alpha = simd::load<Arch>(rgba[3]);
@@ -260,7 +265,6 @@ private:
     std::uint32_t medium = no_material;  // the material whose interior the path is in
     Material textured_material;          // the current surface's material with its maps resolved
     const Material* material = nullptr;  // the material at the path's current surface
-    float volume_alpha = 0.f;            // opacity of the volumes in front of the camera's first hit
   };
 
   /// Where a path scatters next: off a surface, or inside a volume.
@@ -270,6 +274,7 @@ private:
     SurfacePoint surface;        // kind surface
     Vec3f albedo;                // kind medium: the part of the light scattered
     float anisotropy = 0.f;      // kind medium: Henyey–Greenstein g
+    std::size_t volume = 0;      // kind medium: the placed volume collided with
   };
 
   /// Independent uniform numbers for the lanes of live paths (others get 0.5).
@@ -279,13 +284,6 @@ private:
     return simd::load<Arch>(u);
   }
 
-  /// The camera ray's volume opacity in front of `t_end`, integrated as scivis does.
-  void camera_volume_alpha(Path* path, const Ray<F>& ray, const M& live, const F& t_end) const {
-    const F transmittance =
-        detail::volume_transmittance<Arch>(*world_, detail::volume_integration(*world_, params_), ray, live, t_end);
-    for (int i = 0; i < W; ++i) path[i].volume_alpha = 1.f - simd::lane(transmittance, i);
-  }
-
   /// Delta tracking through every volume up to `t_end`: the nearest collision of each
   /// lane (independent media superpose, so the nearest of their collisions is the
   /// mixture's). Sets t_end to it and fills the lane's medium vertex.
@@ -293,17 +291,22 @@ private:
     M collided(false);
     Vec3<F> albedo(splat(0.f));
     F anisotropy(0.f);
-    world_->template for_each_volume_along<Arch>(ray, live, t_end, [&](const auto& model, const auto& object_ray) {
-      const auto c = model.template sample_collision<Arch>(object_ray, t_end, world_->clipping(),
-                                                           [&] { return independent_uniforms(path); });
-      collided = collided | c.hit;
-      t_end = simd::select(c.hit, c.t, t_end);
-      albedo = select(c.hit, c.albedo, albedo);
-      anisotropy = simd::select(c.hit, F(model.anisotropy()), anisotropy);
-    });
+    I volume(0);
+    for (const auto& along : world_->template volumes_along<Arch>(ray, live, t_end))
+      world_->template with_volume<Arch>(along.volume, ray, live & (along.enter <= along.leave),
+                                         [&](const auto& model, const auto& object_ray) {
+        const auto c = model.template sample_collision<Arch>(object_ray, t_end, world_->clipping(),
+                                                             [&] { return independent_uniforms(path); });
+        collided = collided | c.hit;
+        t_end = simd::select(c.hit, c.t, t_end);
+        albedo = select(c.hit, c.albedo, albedo);
+        anisotropy = simd::select(c.hit, F(model.anisotropy()), anisotropy);
+        volume = simd::select(c.hit, I(static_cast<std::int32_t>(along.volume)), volume);
+      });
     for (int i = 0; i < W; ++i) {
       if (!simd::lane(collided, i)) continue;
       vertex[i].kind = Vertex::Kind::medium;
+      vertex[i].volume = static_cast<std::size_t>(simd::lane(volume, i));
       vertex[i].albedo = {simd::lane(albedo.x, i), simd::lane(albedo.y, i), simd::lane(albedo.z, i)};
       vertex[i].anisotropy = simd::lane(anisotropy, i);
     }

@@ -19,6 +19,9 @@ struct SampleIndex {
   /// The screen position of the lane's pixel centre: per-pixel maps (map_maxDepth) are
   /// read there, the same for every sample of the pixel.
   simd::Float<Arch> center_x = simd::Float<Arch>(0.5f), center_y = simd::Float<Arch>(0.5f);
+  /// Whether the frame buffer keeps depth or ids: where it does not, renderers skip
+  /// finding what volumes would put there.
+  bool first_hit_channels = true;
 };
 
 /// A renderer's result for a packet of camera rays, one value per frame buffer channel.

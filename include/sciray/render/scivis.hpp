@@ -142,22 +142,33 @@ public:
     Ray<F> ray = camera_ray;
     ray.tfar = simd::min(ray.tfar, max_depth<Arch>(params_, active, index));
     M live = active;
+    M first_surface(false);  // the lanes whose first hit is a surface: they have an albedo
     for (int depth = 0; simd::any(live); ++depth) {
       const auto hit = accel::intersect<Arch>(world_->scene(), ray, live, depth == 0, world_->hit_filter());
       const F t_end = simd::select(hit.hit, hit.t, inf);
+      // scivis's camera rays make the volume they enter first their first hit (depth and
+      // ids), in front of the surface; OSPRay's ao gives volumes none.
+      VolumeEntry<Arch> entry;
       if constexpr (is_ao) {
         composite_volumes<Arch>(*world_, camera_volumes_, ray, live, t_end, color,
                                 transmittance);  // unlit, as OSPRay's ao
       } else {
-        composite_volumes<Arch>(*world_, camera_volumes_, ray, live, t_end, color, transmittance,
-                                [&](const Vec3<F>& p, const Vec3<F>& n, const Vec3<F>& c, const M& lanes) {
-                                  return lit_volume_sample(p, n, c, ray.time, lanes, rng);
-                                });
+        composite_volumes<Arch>(
+            *world_, camera_volumes_, ray, live, t_end, color, transmittance,
+            [&](const Vec3<F>& p, const Vec3<F>& n, const Vec3<F>& c, const M& lanes) {
+              return lit_volume_sample(p, n, c, ray.time, lanes, rng);
+            },
+            depth == 0 && index.first_hit_channels ? &entry : nullptr);
       }
       if constexpr (!is_ao)
         if (params_.visible_lights) add_visible_lights(ray, live, t_end, transmittance, color);
       const M surfaces = live & hit.hit;
-      if (depth == 0) record_first_hit(hit, out);
+      if (depth == 0) {
+        first_surface = surfaces;
+        record_first_hit<Arch>(*world_, hit, out);
+        if constexpr (!is_ao)
+          if constexpr (requires { world_->volume_count(); }) record_volume_entry<Arch>(*world_, entry, out);
+      }
       Vec3<F> pass(splat(0.f));
       if (simd::any(surfaces)) shade_surfaces(ray, hit, surfaces, rng, color, transmittance, pass, out, depth == 0);
       // Lanes that missed see the background; lanes that hit continue through what the
@@ -177,7 +188,7 @@ public:
     out.color = color;
     const F transmitted = (transmittance.x + transmittance.y + transmittance.z) * F(1.f / 3.f);
     out.alpha = F(1.f) - transmitted * F(1.f - params_.background_alpha);
-    out.albedo = select(out.t < inf, out.albedo, Vec3<F>(params_.background_color));
+    out.albedo = select(first_surface, out.albedo, Vec3<F>(params_.background_color));
     return out;
   }
 
@@ -221,16 +232,6 @@ private:
       rgb[0][i] = c.x, rgb[1][i] = c.y, rgb[2][i] = c.z;
     }
     return {simd::load<Arch>(rgb[0]), simd::load<Arch>(rgb[1]), simd::load<Arch>(rgb[2])};
-  }
-
-  void record_first_hit(const accel::Hit<Arch>& hit, PixelSample<Arch>& out) const {
-    out.t = simd::select(hit.hit, hit.t, out.t);
-    out.prim_id = simd::select(hit.hit, hit.prim_id, I(-1));
-    out.geom_id = simd::select(hit.hit, hit.geom_id, I(-1));
-    // Instances are numbered from 0 as the world added them; -1 for direct geometry.
-    const I first_instance(static_cast<std::int32_t>(world_->geometry_count()));
-    const M instanced = hit.hit & (simd::to_float(hit.inst_id) != F(static_cast<float>(RTC_INVALID_GEOMETRY_ID)));
-    out.inst_id = simd::select(instanced, hit.inst_id - first_instance, I(-1));
   }
 
   void shade_surfaces(const Ray<F>& ray, const accel::Hit<Arch>& hit, const M& surfaces, PixelRandom* rng,

@@ -6,6 +6,7 @@
 // world or by a transform, static or moving (volume/volume_placement.hpp), once or many
 // times: placements share the model (its macrocells) as instances share a group.
 // Renderers integrate the placed volumes along each ray up to the nearest surface.
+#include <array>
 #include <cstdint>
 #include <deque>
 #include <tuple>
@@ -37,6 +38,7 @@ public:
   std::size_t place_volume(std::size_t volume, const MotionTransform& motion) {
     Placement copy = placements_.at(volume);
     copy.where = VolumePlacement(motion, "volume " + std::to_string(placements_.size()));
+    copy.ids = {static_cast<std::int32_t>(placements_.size()), -1};
     visit_model(copy, [&](const auto& model) {
       copy.bounds = copy.where.world_bounds(model.bounds());
       copy.step = model.step(1.f) * copy.where.smallest_scale();
@@ -44,6 +46,15 @@ public:
     placements_.push_back(std::move(copy));
     return placements_.size() - 1;
   }
+
+  /// What the id channels show where placed volume `volume` is seen: primitive 0,
+  /// `object` and `instance` (OSPRay: the volumetric model's index in its group or its
+  /// `id`, and its instance's index or `id`). By default the placement's index and -1.
+  void set_volume_ids(std::size_t volume, std::int32_t object, std::int32_t instance) {
+    placements_.at(volume).ids = {object, instance};
+  }
+  /// The object and instance ids of placed volume `volume` (see set_volume_ids).
+  std::array<std::int32_t, 2> volume_ids(std::size_t volume) const { return placements_[volume].ids; }
 
   /// How many placed volumes the world has.
   std::size_t volume_count() const { return placements_.size(); }
@@ -141,6 +152,7 @@ private:
     VolumePlacement where;
     Box3f bounds;  ///< in world space, over the motion
     float step;    ///< about one cell in world units
+    std::array<std::int32_t, 2> ids;  ///< object and instance ids for the id channels
   };
 
   template <class V>
@@ -150,8 +162,9 @@ private:
     const Box3f bounds = where.world_bounds(model.bounds());
     const float step = model.step(1.f) * where.smallest_scale();
     list.push_back(std::move(model));
+    const auto placed = static_cast<std::int32_t>(placements_.size());
     placements_.push_back(
-        {type_index<V>(), static_cast<std::uint32_t>(list.size() - 1), std::move(where), bounds, step});
+        {type_index<V>(), static_cast<std::uint32_t>(list.size() - 1), std::move(where), bounds, step, {placed, -1}});
     return placements_.size() - 1;
   }
 

@@ -13,6 +13,7 @@
 // ISA-independent; `commit<Arch>` only tells geometries with sciray's own intersectors
 // which compiled packet code to register. Renderers, which run per ray, take Arch.
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <concepts>
 #include <cstdint>
@@ -67,7 +68,8 @@ public:
     std::shared_ptr<const std::vector<std::uint32_t>> per_primitive;
     if (!primitive_materials.empty())
       per_primitive = std::make_shared<const std::vector<std::uint32_t>>(std::move(primitive_materials));
-    refs_.push_back({type_index<G>(), static_cast<std::uint32_t>(list.size()), material, std::move(per_primitive)});
+    const auto id = static_cast<std::uint32_t>(refs_.size());
+    refs_.push_back({type_index<G>(), static_cast<std::uint32_t>(list.size()), material, std::move(per_primitive), id});
     list.push_back(std::move(geometry));
     committed_ = false;
     return static_cast<std::uint32_t>(refs_.size() - 1);
@@ -110,6 +112,17 @@ public:
 
   /// The material index geometry `id` was added with.
   std::uint32_t material(std::uint32_t id) const { return refs_.at(id).material; }
+
+  /// What the object id channel shows for geometry `id`: `object_id` in place of its id
+  /// (OSPRay's geometric model `id`). Takes effect at the world's commit.
+  void set_object_id(std::uint32_t id, std::uint32_t object_id) {
+    refs_.at(id).object_id = object_id;
+    user_object_ids_ = true;
+  }
+  /// The id channel's object id of geometry `id`: its id unless set_object_id gave another.
+  std::uint32_t object_id(std::uint32_t id) const { return refs_.at(id).object_id; }
+  /// Whether some geometry's object id differs from its id.
+  bool user_object_ids() const { return user_object_ids_; }
   /// Geometry `id`'s material per primitive, or null where it has one for all.
   const std::vector<std::uint32_t>* primitive_materials(std::uint32_t id) const {
     return refs_.at(id).primitive_materials.get();
@@ -175,6 +188,7 @@ protected:
   accel::Scene scene_;
   Box3f bounds_;
   bool committed_ = false;
+  bool user_object_ids_ = false;
   bool context_filter_ = false;
 
 private:
@@ -183,6 +197,7 @@ private:
     std::uint32_t index;
     std::uint32_t material;
     std::shared_ptr<const std::vector<std::uint32_t>> primitive_materials;
+    std::uint32_t object_id;  ///< what the object id channel shows
   };
 
   template <class G, std::size_t I = 0>
@@ -250,7 +265,8 @@ public:
         throw Error("world: instance " + std::to_string(instances_.size()) + " has a singular or non-finite transform" +
                     (motion.moving() ? " at key " + std::to_string(k) : std::string()));
     }
-    instances_.push_back({std::move(group), std::move(motion)});
+    const auto id = static_cast<std::uint32_t>(instances_.size());
+    instances_.push_back({std::move(group), std::move(motion), id});
     this->committed_ = false;
     return static_cast<std::uint32_t>(instances_.size() - 1);
   }
@@ -272,6 +288,26 @@ public:
   }
 
   std::size_t instance_count() const { return instances_.size(); }
+
+  /// What the instance id channel shows for instance `instance`: `id` in place of its
+  /// index (OSPRay's instance `id`). Takes effect at commit.
+  void set_instance_id(std::uint32_t instance, std::uint32_t id) {
+    instances_.at(instance).id = id;
+    this->committed_ = false;
+  }
+
+  /// Whether an object or instance id differs from its index (as of the last commit):
+  /// the id channels then need channel_ids() instead of the hits' own ids.
+  bool user_ids() const { return user_ids_; }
+
+  /// The object and instance ids that the id channels show for a hit's geometry: the
+  /// Embree ids `inst_id` and `geom_id` (as visit_hit) mapped through the user ids; the
+  /// instance id is -1 for a direct geometry.
+  std::array<std::int32_t, 2> channel_ids(std::uint32_t inst_id, std::uint32_t geom_id) const {
+    if (inst_id == RTC_INVALID_GEOMETRY_ID) return {static_cast<std::int32_t>(this->object_id(geom_id)), -1};
+    const Instance& instance = instances_.at(inst_id - this->geometry_count());
+    return {static_cast<std::int32_t>(instance.group->object_id(geom_id)), static_cast<std::int32_t>(instance.id)};
+  }
   const MotionTransform& instance_motion(std::uint32_t instance) const { return instances_.at(instance).motion; }
   const GroupType& instance_group(std::uint32_t instance) const { return *instances_.at(instance).group; }
 
@@ -287,8 +323,10 @@ public:
     this->bounds_ = {};
     this->template attach_geometries<Arch>(scene.get(), 0);
     const auto first_instance = static_cast<std::uint32_t>(this->geometry_count());
+    user_ids_ = this->user_object_ids();
     for (std::uint32_t i = 0; i < instances_.size(); ++i) {
       const Instance& instance = instances_[i];
+      user_ids_ = user_ids_ || instance.id != i || instance.group->user_object_ids();
       instance.group->set_context_filter(clipped);
       if (!instance.group->committed()) instance.group->template commit<Arch>();
       accel::GeometryHandle handle(*this->device_, RTC_GEOMETRY_TYPE_INSTANCE);
@@ -356,7 +394,9 @@ private:
   struct Instance {
     std::shared_ptr<GroupType> group;
     MotionTransform motion;
+    std::uint32_t id;  ///< what the instance id channel shows
   };
+  bool user_ids_ = false;
 
 
   /// Embree's context filter: rejects candidate hits inside a clipping volume. Instanced
