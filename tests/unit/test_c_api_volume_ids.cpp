@@ -97,7 +97,9 @@ struct VolumeBoxScene {
   static OSPGeometricModel box(float x0, float x1, float z0, float z1) {
     OSPGeometry g = ospNewGeometry("box");
     const float b[6] = {x0, -0.4f, z0, x1, 0.4f, z1};
-    OSPData data = ospNewCopiedData(1, OSP_BOX3F, b);
+    OSPData shared = ospNewSharedData1D(b, OSP_BOX3F, 1), data = ospNewData1D(OSP_BOX3F, 1);
+    ospCopyData1D(shared, data, 0);  // b is gone when the model is used
+    ospRelease(shared);
     ospSetObject(g, "box", data);
     ospCommit(g);
     OSPGeometricModel m = ospNewGeometricModel(g);
