@@ -37,7 +37,7 @@ public:
   std::size_t place_volume(std::size_t volume, const MotionTransform& motion) {
     Placement copy = placements_.at(volume);
     copy.where = VolumePlacement(motion, "volume " + std::to_string(placements_.size()));
-    visit(copy, [&](const auto& model) {
+    visit_volume(copy, [&](const auto& model) {
       copy.bounds = copy.where.world_bounds(model.bounds());
       copy.step = model.step(1.f) * copy.where.smallest_scale();
     });
@@ -79,7 +79,7 @@ public:
                    F&& f) const {
     const Placement& p = placements_[volume];
     const VolumeRay<Arch> object_ray = p.where.template object_ray<Arch>(ray, active);
-    if (simd::any(object_ray.active)) visit(p, [&](const auto& model) { f(model, object_ray); });
+    if (simd::any(object_ray.active)) visit_volume(p, [&](const auto& model) { f(model, object_ray); });
   }
 
   /// with_volume() for every placed volume that the active lanes pass before t_end.
@@ -106,7 +106,7 @@ public:
     std::size_t bytes = WorldT::memory_bytes();
     std::unordered_set<const void*> models, volumes;
     for (const Placement& p : placements_)
-      visit(p, [&](const auto& model) {
+      visit_volume(p, [&](const auto& model) {
         if (!models.insert(&model).second) return;
         bytes += model.owned_bytes();
         if (volumes.insert(&model.volume()).second) bytes += model.volume().owned_bytes();
@@ -164,13 +164,13 @@ private:
   }
 
   template <std::size_t I = 0, class F>
-  void visit(const Placement& p, F&& f) const {
+  void visit_volume(const Placement& p, F&& f) const {
     using V = std::tuple_element_t<I, std::tuple<Volumes...>>;
     if constexpr (I + 1 == sizeof...(Volumes)) {
       f(std::get<std::deque<VolumetricModel<V>>>(models_)[p.index]);
     } else {
       if (p.type == I) return f(std::get<std::deque<VolumetricModel<V>>>(models_)[p.index]);
-      visit<I + 1>(p, std::forward<F>(f));
+      visit_volume<I + 1>(p, std::forward<F>(f));
     }
   }
 
