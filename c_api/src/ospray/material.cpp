@@ -297,10 +297,15 @@ void TextureObject::commit_texture2d() {
       return image;
     };
     auto image = make(std::move(texels));
-    std::shared_ptr<const Texture2D> normal_image;
+    std::shared_ptr<const Texture2D> normal_image, alpha_image;
     if (!normal_texels.empty()) normal_image = make(std::move(normal_texels));
+    // The last channel of RA, LA and RGBA formats is alpha (linear also in sRGB formats).
+    if (layout->channels == 2 || layout->channels == 4)
+      alpha_image = make(data->to_vector<Vec3f>(
+          [&](const std::byte* e) { return splat(std::max(read_channel(e, layout->channel, layout->channels - 1), 0.f)); }));
     image_ = std::move(image);
     normal_image_ = std::move(normal_image);
+    alpha_image_ = std::move(alpha_image);
   } catch (const Error& e) {
     throw Error(name() + ": " + e.what());
   }

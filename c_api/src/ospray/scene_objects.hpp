@@ -155,6 +155,8 @@ public:
   /// The image as a normal map's texels (normal_map_texel) from the raw channels; null for
   /// formats of one or two channels, which OSPRay's normal maps ignore.
   const std::shared_ptr<const Texture2D>& normal_image() const { return normal_image_; }
+  /// A texture2d's alpha channel as grey texels; null for formats without alpha.
+  const std::shared_ptr<const Texture2D>& alpha_image() const { return alpha_image_; }
   /// Also counts the commits of a volume texture's volume and transfer function (or model).
   std::uint64_t version() const override;
 
@@ -167,7 +169,7 @@ private:
   Ref<VolumetricModelObject> model_;  ///< OSPRay 2's form
   Ref<VolumeObject> volume_;          ///< OSPRay 3's form, with transfer_function_
   Ref<TransferFunctionObject> transfer_function_;
-  std::shared_ptr<const Texture2D> image_, normal_image_;
+  std::shared_ptr<const Texture2D> image_, normal_image_, alpha_image_;
 };
 
 /// The `kd` an obj material has where none is given (OSPRay's default), which is also
@@ -438,6 +440,7 @@ struct BuiltWorld {
   };
   std::vector<PlacedInstance> instances;  ///< by engine instance index
   std::vector<sciray::Light> lights;
+  std::vector<sciray::MovingLight> moving_lights;  ///< of groups in moving instances
   std::vector<sciray::Material> materials;  ///< what the geometries' material indices name
   /// Entries of `materials` that are the renderer's: its `material` list's element
   /// `index`, tinted by a model's colour (isosurfaces) where given.
