@@ -408,3 +408,80 @@ TEST_CASE("scivis visibleLights: camera rays see a quad light's radiance, as OSP
   CHECK(api.messages.errors.empty());
   ospRelease(scivis);
 }
+
+TEST_CASE("pathtracer backgroundRefraction: the background through transparency and through refraction",
+          "[c_api][renderers]") {
+  ApiFixture api;
+  // Without lights, what a pixel shows is the blue background the path reaches, times
+  // what the floor let through.
+  const auto render = [&](OSPMaterial material, bool oblique, bool refraction) {
+    FloorScene scene(material);
+    if (oblique) {  // 45 degrees: refraction bends the ray
+      ospSetVec3f(scene.camera, "position", 0.f, 5.f, -5.f);
+      ospSetVec3f(scene.camera, "direction", 0.f, -1.f, 1.f);
+      ospSetVec3f(scene.camera, "up", 0.f, 1.f, 0.f);
+      ospCommit(scene.camera);
+    }
+    ospCommit(scene.world);
+    OSPRenderer renderer = ospNewRenderer("pathtracer");
+    ospSetVec4f(renderer, "backgroundColor", 0.f, 0.f, 1.f, 0.f);
+    ospSetBool(renderer, "backgroundRefraction", refraction);
+    ospCommit(renderer);
+    const auto rgb = scene.render(renderer, 16);
+    ospRelease(renderer);
+    return rgb[2];
+  };
+  OSPMaterial half_transparent = ospNewMaterial("obj");
+  ospSetFloat(half_transparent, "d", 0.5f);
+  ospCommit(half_transparent);
+  OSPMaterial glass = ospNewMaterial("glass");
+  ospCommit(glass);
+  // Transparency keeps the ray's direction: the background shows either way (half of it).
+  CHECK(render(half_transparent, false, false) == Approx(0.5f).margin(0.05f));
+  CHECK(render(half_transparent, false, true) == Approx(0.5f).margin(0.05f));
+  // Refraction bends it: only with backgroundRefraction (Fresnel lets about 95 % through at 45 degrees).
+  CHECK(render(glass, true, false) == 0.f);
+  CHECK(render(glass, true, true) > 0.9f);
+  ospRelease(half_transparent);
+  ospRelease(glass);
+  CHECK(api.messages.errors == std::vector<std::string>{});
+}
+
+TEST_CASE("a backplate with alpha sets the background's alpha and is clamped at its edges", "[c_api][renderers]") {
+  ApiFixture api;
+  FloorScene scene(nullptr);
+  ospSetVec3f(scene.camera, "position", 0.f, -5.f, 0.f);  // below the floor, looking away from it
+  ospCommit(scene.camera);
+  ospCommit(scene.world);
+  // 2x1 RGBA8: red with alpha 64 on the left, green opaque on the right. Measured with
+  // OSPRay 3.1's runtime: a backplate's corner pixel shows its corner texel unmixed.
+  const unsigned char texels[8] = {255, 0, 0, 64, 0, 255, 0, 255};
+  OSPTexture plate = ospNewTexture("texture2d");
+  ospSetInt(plate, "format", OSP_TEXTURE_RGBA8);
+  OSPData data = ospNewSharedData2D(texels, OSP_VEC4UC, 2, 1);
+  ospSetObject(plate, "data", data);
+  ospRelease(data);
+  ospCommit(plate);
+  for (const char* type : {"scivis", "pathtracer"}) {
+    INFO(type);
+    OSPRenderer renderer = ospNewRenderer(type);
+    ospSetObject(renderer, "map_backplate", plate);
+    ospSetInt(renderer, "pixelFilter", OSP_PIXELFILTER_POINT);
+    ospCommit(renderer);
+    OSPFrameBuffer fb = ospNewFrameBuffer(8, 8, OSP_FB_RGBA32F, OSP_FB_COLOR);
+    ospRenderFrameBlocking(fb, renderer, scene.camera, scene.world);
+    const auto* rgba = static_cast<const float*>(ospMapFrameBuffer(fb, OSP_FB_COLOR));
+    const float* left = rgba + 4 * (3 * 8 + 0);  // row 3, column 0: the left edge
+    const float* right = rgba + 4 * (3 * 8 + 7);
+    CHECK(left[0] == Approx(1.f));
+    CHECK(left[1] == Approx(0.f).margin(1e-6));
+    CHECK(left[3] == Approx(64.f / 255.f));
+    CHECK(right[1] == Approx(1.f));
+    CHECK(right[3] == Approx(1.f));
+    ospUnmapFrameBuffer(rgba, fb);
+    ospRelease(fb);
+    ospRelease(renderer);
+  }
+  ospRelease(plate);
+  CHECK(api.messages.errors == std::vector<std::string>{});
+}

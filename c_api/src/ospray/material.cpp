@@ -285,9 +285,10 @@ void TextureObject::commit_texture2d() {
       return image;
     };
     auto image = make(std::move(texels));
-    // As a normal map: the raw channels of formats with three or four, decoded at the
-    // first use as one (most textures never are, and keep no second copy of their texels).
-    std::function<std::shared_ptr<const Texture2D>()> normal_source;
+    // Derived images, made at their first use (most textures need neither, and keep no
+    // second copy of their texels): as a normal map, the raw channels of formats with
+    // three or four; the alpha of RA, LA and RGBA formats (linear also in sRGB ones).
+    std::function<std::shared_ptr<const Texture2D>()> normal_source, alpha_source;
     if (layout->channels >= 3)
       normal_source = [data_ref = p->object, layout, make] {
         const auto* raw_data = static_cast<const Data*>(data_ref.get());
@@ -300,20 +301,21 @@ void TextureObject::commit_texture2d() {
           return normal_map_texel({raw(0), raw(1), raw(2)}, scale);
         }));
       };
+    if (layout->channels == 2 || layout->channels == 4)
+      alpha_source = [data_ref = p->object, layout, make] {
+        const auto* raw_data = static_cast<const Data*>(data_ref.get());
+        return make(raw_data->to_vector<Vec3f>([&](const std::byte* e) {
+          return splat(std::max(read_channel(e, layout->channel, layout->channels - 1), 0.f));
+        }));
+      };
     image_ = std::move(image);
-    const std::lock_guard lock(normal_image_mutex_);
-    normal_source_ = std::move(normal_source);
-    normal_image_.reset();
+    normal_image_.reset(std::move(normal_source));
+    alpha_image_.reset(std::move(alpha_source));
   } catch (const Error& e) {
     throw Error(name() + ": " + e.what());
   }
 }
 
-std::shared_ptr<const Texture2D> TextureObject::normal_image() const {
-  const std::lock_guard lock(normal_image_mutex_);
-  if (!normal_image_ && normal_source_) normal_image_ = normal_source_();
-  return normal_image_;
-}
 
 void TextureObject::on_commit() {
   if (subtype() == "texture2d") return commit_texture2d();

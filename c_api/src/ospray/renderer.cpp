@@ -21,6 +21,7 @@ void Renderer::on_commit() {
       if (!backplate->committed() || !backplate->image())
         throw Error(name() + ": parameter 'map_backplate' must be a committed texture2d");
       params.backplate = backplate->image();
+      params.backplate_alpha = backplate->alpha_image();
     }
     // Texels are finite and not negative (texture2d checks them): every depth is valid.
     if (auto* max_depth = get_object<TextureObject>("map_maxDepth", OSP_TEXTURE, false)) {
@@ -49,6 +50,8 @@ void Renderer::on_commit() {
     p.roulette_path_length = get_int("roulettePathLength", p.roulette_path_length);
     p.max_contribution = get_float("maxContribution", p.max_contribution);
     p.geometry_lights = get_bool("geometryLights", p.geometry_lights);
+    p.light_samples = get_int("lightSamples", p.light_samples);
+    p.background_refraction = get_bool("backgroundRefraction", p.background_refraction);
     config = p;
   }
   // What the renderers check of their parameters, checked now with no lights or materials.
@@ -91,6 +94,7 @@ shim::RendererConfig Renderer::config(const BuiltWorld& world) const {
   std::visit(
       [&](auto& p) {
         p.lights = world.lights;
+        p.moving_lights = world.moving_lights;
         p.materials = world.materials;
         // Models' indices into the renderer's `material` list; as OSPRay, an index
         // beyond it shows the default obj material.

@@ -138,6 +138,29 @@ private:
   std::uint64_t model_tf_version_ = 0;      ///< the transfer function commit it shows
 };
 
+/// An image derived from a texture's data at its first use after a commit (a normal
+/// map's raw texels, the alpha channel), so that textures that never need it keep no second
+/// copy of their texels. Safe to use from concurrent commits.
+class DerivedImage {
+public:
+  void reset(std::function<std::shared_ptr<const Texture2D>()> source) {
+    const std::lock_guard lock(mutex_);
+    source_ = std::move(source);
+    image_.reset();
+  }
+  /// Null where the texture has no such image.
+  std::shared_ptr<const Texture2D> get() const {
+    const std::lock_guard lock(mutex_);
+    if (!image_ && source_) image_ = source_();
+    return image_;
+  }
+
+private:
+  std::function<std::shared_ptr<const Texture2D>()> source_;
+  mutable std::mutex mutex_;
+  mutable std::shared_ptr<const Texture2D> image_;
+};
+
 /// OSPRay's `volume` texture: a transfer function colours the points of a surface by a
 /// volume's value there. OSPRay 3 gives `volume` (an OSPVolume) and `transferFunction`;
 /// OSPRay 2 gave `volume` as a volumetric model, whose transfer function it took. As a
@@ -156,10 +179,11 @@ public:
   }
   /// The image of a texture2d (null for a volume texture).
   const std::shared_ptr<const Texture2D>& image() const { return image_; }
-  /// The image as a normal map's texels (normal_map_texel) from the raw channels, made at
-  /// the first call after a commit; null for formats of one or two channels, which
-  /// OSPRay's normal maps ignore.
-  std::shared_ptr<const Texture2D> normal_image() const;
+  /// The image as a normal map's texels (normal_map_texel) from the raw channels; null for
+  /// formats of one or two channels, which OSPRay's normal maps ignore.
+  std::shared_ptr<const Texture2D> normal_image() const { return normal_image_.get(); }
+  /// A texture2d's alpha channel as grey texels; null for formats without alpha.
+  std::shared_ptr<const Texture2D> alpha_image() const { return alpha_image_.get(); }
   /// Also counts the commits of a volume texture's volume and transfer function (or model).
   std::uint64_t version() const override;
 
@@ -173,9 +197,7 @@ private:
   Ref<VolumeObject> volume_;          ///< OSPRay 3's form, with transfer_function_
   Ref<TransferFunctionObject> transfer_function_;
   std::shared_ptr<const Texture2D> image_;
-  std::function<std::shared_ptr<const Texture2D>()> normal_source_;  ///< null for 1 or 2 channels
-  mutable std::mutex normal_image_mutex_;
-  mutable std::shared_ptr<const Texture2D> normal_image_;
+  DerivedImage normal_image_, alpha_image_;
 };
 
 /// The `kd` an obj material has where none is given (OSPRay's default), which is also
@@ -452,6 +474,7 @@ struct BuiltWorld {
   };
   std::vector<PlacedInstance> instances;  ///< by engine instance index
   std::vector<sciray::Light> lights;
+  std::vector<sciray::MovingLight> moving_lights;  ///< of groups in moving instances
   std::vector<sciray::Material> materials;  ///< what the geometries' material indices name
   /// Entries of `materials` that are the renderer's: its `material` list's element
   /// `index`, tinted by a model's colour (isosurfaces) where given.

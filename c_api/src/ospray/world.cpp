@@ -533,16 +533,16 @@ std::shared_ptr<const BuiltWorld> World::built(const shim::IsaKernels& kernels, 
 
   for (const auto& light : lights_)
     for (const sciray::Light& l : light->lights()) built->lights.push_back(l);
-  // Lights in groups are placed by every instance of their group.
-  for (std::size_t i = 0; i < instances_.size(); ++i) {
-    const Instance& instance = *instances_[i];
-    if (instance.group()->lights().empty()) continue;
-    if (instance.placement().moving())
-      throw Error(name() + ": instance " + std::to_string(i) +
-                  " moves (motion.*) a group with lights: moving lights are not supported yet");
-    for (const auto& light : instance.group()->lights())
-      for (const sciray::Light& l : light->lights()) built->lights.push_back(transformed(l, instance.placement().key(0)));
-  }
+  // Lights in groups are placed by every instance of their group; by a moving instance
+  // at each ray's time.
+  for (const Ref<Instance>& instance : instances_)
+    for (const auto& light : instance->group()->lights())
+      for (const sciray::Light& l : light->lights()) {
+        if (instance->placement().moving())
+          built->moving_lights.push_back({l, instance->placement()});
+        else
+          built->lights.push_back(transformed(l, instance->placement().key(0)));
+      }
   for (const MaterialEntry& entry : materials_) {
     if (entry.renderer_index) {  // filled in per frame, from the renderer's list
       built->renderer_materials.push_back({built->materials.size(), *entry.renderer_index, entry.tint});

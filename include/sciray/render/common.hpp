@@ -31,9 +31,11 @@ struct RendererParams {
   /// colour multiplies the geometry's.
   std::vector<Material> materials;
   std::vector<Light> lights = default_lights();
+  std::vector<MovingLight> moving_lights;  ///< lights of moving instances, placed at each ray's time
   Vec3f background_color{0.f, 0.f, 0.f};  ///< backgroundColor (rgb)
   float background_alpha = 0.f;           ///< backgroundColor (alpha)
   std::shared_ptr<const Texture2D> backplate;  ///< map_backplate: screen-space background image
+  std::shared_ptr<const Texture2D> backplate_alpha;  ///< its alpha (as grey); null: opaque
   /// map_maxDepth: how far camera rays reach, per pixel (its first channel at the pixel
   /// centre's screen position): surfaces and volumes beyond are not seen, as behind a
   /// rasterized image's depth buffer that the frame is composited with.
@@ -45,6 +47,16 @@ struct RendererParams {
   bool volume_preintegration = false;    ///< see VolumeIntegration::preintegration
   bool volume_adaptive_sampling = false;  ///< see VolumeIntegration::adaptive_sampling
 };
+
+/// The background at screen position (x, y): the backplate (clamped at its edges), else
+/// the background colour; with its alpha (a backplate's, 1 for formats without alpha).
+inline Vec3f background_at(const RendererParams& p, float x, float y) {
+  return p.backplate ? p.backplate->sample_clamped(x, y) : p.background_color;
+}
+inline float background_alpha_at(const RendererParams& p, float x, float y) {
+  if (!p.backplate) return p.background_alpha;
+  return p.backplate_alpha ? p.backplate_alpha->sample_clamped(x, y).x : 1.f;
+}
 
 /// Throws an Error naming what is wrong with `p` for a world whose geometries need
 /// `materials_needed` materials.
@@ -61,6 +73,11 @@ inline void validate(const RendererParams& p, std::uint32_t materials_needed, co
       validate(p.lights[i]);
     } catch (const Error& e) {
       throw Error(renderer + " renderer: light " + std::to_string(i) + ": " + e.what());
+    }
+  for (std::size_t i = 0; i < p.moving_lights.size(); ++i) try {
+      validate(p.moving_lights[i].light);
+    } catch (const Error& e) {
+      throw Error(renderer + " renderer: moving light " + std::to_string(i) + ": " + e.what());
     }
   if (p.max_path_length < 0) throw Error(renderer + " renderer: parameter 'maxPathLength' must not be negative");
   if (!(p.min_contribution >= 0.f)) throw Error(renderer + " renderer: parameter 'minContribution' must not be negative");

@@ -22,6 +22,7 @@
 
 #include "sciray/error.hpp"
 #include "sciray/math/affine.hpp"
+#include "sciray/math/motion.hpp"
 #include "sciray/math/vec.hpp"
 #include "sciray/render/light_distribution.hpp"
 #include "sciray/render/light_hdri.hpp"
@@ -344,6 +345,14 @@ inline Light transformed(const Light& light, const Affine3f& xfm) {
       },
       light);
 }
+
+/// A light of a group that a moving instance places: `light` in the group's space, placed
+/// by `motion` at each ray's time (as OSPRay places it).
+struct MovingLight {
+  Light light;
+  MotionTransform motion;
+  Light at(float time) const { return transformed(light, motion.at(time)); }
+};
 
 /// Throws an Error naming the first bad parameter of `light`.
 inline void validate(const Light& light) {

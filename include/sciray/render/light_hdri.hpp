@@ -21,7 +21,10 @@ namespace sciray {
 enum class IntensityQuantity : std::uint8_t { radiance = 0, irradiance = 1, intensity = 2, power = 3, scale = 4 };
 
 /// An environment map in latitude-longitude layout: `direction` is where the map's centre
-/// (u = 0.5, v = 0.5) lies, `up` is v = 1. `intensity` (times `color`) scales the map.
+/// (u = 0.5, v = 0.5) lies, `up` is v = 1, and u = 0.75 lies towards `direction` x `up`
+/// (u = 0.25 opposite), OSPRay 3.1's layout measured with its runtime: with the default frame (up +y,
+/// direction +z) the view along +x shows u = 0.25, along -x u = 0.75, along -z the seam.
+/// `intensity` (times `color`) scales the map.
 class HdriLight {
 public:
   Vec3f color{1.f, 1.f, 1.f};
@@ -118,7 +121,7 @@ private:
     const Vec3f d = direction - up_ * dot(direction, up_);
     if (length(d) < 1e-6f * dl) throw Error("hdri light: 'direction' is parallel to 'up'");
     forward_ = normalize(d);
-    side_ = cross(up_, forward_);
+    side_ = cross(forward_, up_);  // u = 0.75
   }
   Vec3f from_uv(float u, float v) const {
     const float theta = v * std::numbers::pi_v<float>, phi = 2.f * std::numbers::pi_v<float> * (u - 0.5f);

@@ -49,6 +49,14 @@ struct PathTracerParams : RendererParams {
   LightSampling light_sampling = LightSampling::mis;
   /// geometryLights: emissive geometry is sampled as a light (else found by BSDF sampling only)
   bool geometry_lights = true;
+  /// lightSamples: lights sampled per path vertex, each picked uniformly at random (as
+  /// OSPRay 3.1 picks them); negative, or at least the number of lights: each light once;
+  /// 0: none. Emissive geometry has its own sample per vertex either way.
+  int light_samples = -1;
+  /// backgroundRefraction: the background (colour or backplate) is seen through
+  /// refracting surfaces — paths of specular transmissions only — as OSPRay's; else only
+  /// along paths that kept their direction (camera rays, and through transparency).
+  bool background_refraction = false;
 };
 
 template <class Arch, class WorldT>
@@ -62,13 +70,16 @@ public:
   PathTracer(const WorldT& world, const PathTracerParams& params)
       : world_(&world),
         params_(params),
-        geometry_lights_(params.light_sampling == LightSampling::bsdf_only || !params.geometry_lights
+        geometry_lights_(params.light_sampling == LightSampling::bsdf_only || !params.geometry_lights ||
+                                 params.light_samples == 0
                              ? GeometryLights<WorldT>()
                              : GeometryLights<WorldT>(world, params.materials)) {
     validate(params_, world.materials_needed(), "pathtracer");
     if (params_.roulette_path_length < 0)
       throw Error("pathtracer renderer: parameter 'roulettePathLength' must not be negative");
     if (!(params_.max_contribution > 0.f)) throw Error("pathtracer renderer: parameter 'maxContribution' must be positive");
+    // No light samples (as OSPRay's lightSamples 0): lights are found by BSDF sampling only.
+    if (params_.light_samples == 0) params_.light_sampling = LightSampling::bsdf_only;
     const Box3f b = world.bounds();
     scene_size_ = b.empty() ? 1.f : length(b.size());
     for (const Material& m : params_.materials) normal_mapped_.push_back(has_normal_map(m));
@@ -82,6 +93,7 @@ public:
       path[i].alive = simd::lane(active, i);
       path[i].org = {simd::lane(camera_ray.org.x, i), simd::lane(camera_ray.org.y, i), simd::lane(camera_ray.org.z, i)};
       path[i].dir = {simd::lane(camera_ray.dir.x, i), simd::lane(camera_ray.dir.y, i), simd::lane(camera_ray.dir.z, i)};
+      path[i].time = simd::lane(camera_ray.time, i);
     }
     const F camera_reach = detail::max_depth<Arch>(params_, active, index);
     PixelSample<Arch> out;
@@ -136,11 +148,13 @@ public:
         const float t = v.kind == Vertex::Kind::none ? inf : simd::lane(t_event, i);
         add_lights_along(p, t, depth);
         if (v.kind == Vertex::Kind::none) {
-          if (depth == 0) {
-            const Vec3f background = params_.backplate ? params_.backplate->sample(simd::lane(index.screen_x, i),
-                                                                                   simd::lane(index.screen_y, i))
-                                                       : params_.background_color;
-            p.radiance = p.radiance + p.throughput * background, p.alpha = params_.background_alpha;
+          if (params_.background_refraction ? p.specular_transmissions : p.straight) {
+            const float x = simd::lane(index.screen_x, i), y = simd::lane(index.screen_y, i);
+            p.radiance = p.radiance + p.throughput * background_at(params_, x, y);
+            // As OSPRay: what the surfaces passed let through is the background's share.
+            const float through = std::clamp(
+                0.212671f * p.throughput.x + 0.715160f * p.throughput.y + 0.072169f * p.throughput.z, 0.f, 1.f);
+            p.alpha = 1.f - through + through * background_alpha_at(params_, x, y);
           }
           p.alive = false;
           continue;
@@ -203,6 +217,7 @@ public:
           p.dir = scattered;
           p.previous_delta = false;
           p.previous_normal = splat(0.f);
+          p.straight = p.specular_transmissions = false;
         } else {
           const Material& m = *p.material;
           const std::optional<BsdfSample> b = sample(m, p.sp, wo, u_lobe, u.u, u.v);
@@ -211,6 +226,8 @@ public:
             continue;
           }
           p.throughput = p.throughput * b->weight;
+          p.straight = p.straight && b->wi == p.dir;
+          p.specular_transmissions = p.specular_transmissions && b->delta && b->transmitted;
           p.previous_pdf = b->pdf;
           p.previous_delta = b->delta;
           p.previous_normal = p.sp.n;
@@ -254,6 +271,10 @@ private:
     PixelRandom rng;
     bool alive = false;
     Vec3f org, dir;
+    float time = 0.f;  // the camera ray's: where lights of moving instances are
+    // The background is seen along straight paths (or, with backgroundRefraction, paths of
+    // specular transmissions only).
+    bool straight = true, specular_transmissions = true;
     Vec3f throughput{1.f, 1.f, 1.f};
     Vec3f radiance{0.f, 0.f, 0.f};
     float alpha = 0.f;
@@ -353,43 +374,71 @@ private:
   /// Lights the ray (org, dir) of path p reaches before distance t: lights with size in
   /// front of the surface, and lights at infinity where the ray escapes.
   void add_lights_along(Path& p, float t, int depth) const {
-    for (const Light& light : params_.lights) {
-      if (depth == 0 && !std::visit([](const auto& l) { return l.visible; }, light)) continue;
-      if (is_delta(light)) continue;
-      const LightEval e = eval(light, p.org, p.previous_normal, p.dir, t);
-      if (!(e.pdf > 0.f) && !(std::max({e.radiance.x, e.radiance.y, e.radiance.z}) > 0.f)) continue;
-      // The camera sees lights directly; a bounce after a specular lobe had no light sample to share with.
-      float w = p.previous_delta ? 1.f : power_heuristic(p.previous_pdf, e.pdf);
-      if (!p.previous_delta && params_.light_sampling != LightSampling::mis)
-        w = params_.light_sampling == LightSampling::bsdf_only ? 1.f : 0.f;
-      add(p, p.throughput * e.radiance * w, depth);
-    }
+    const float picked = light_pick_probability();
+    for (std::size_t k = 0; k < light_count(); ++k)
+      with_light(k, p.time, [&](const Light& light) {
+        if (depth == 0 && !std::visit([](const auto& l) { return l.visible; }, light)) return;
+        if (is_delta(light)) return;
+        const LightEval e = eval(light, p.org, p.previous_normal, p.dir, t);
+        if (!(e.pdf > 0.f) && !(std::max({e.radiance.x, e.radiance.y, e.radiance.z}) > 0.f)) return;
+        // The camera sees lights directly; a bounce after a specular lobe had no light sample to share with.
+        float w = p.previous_delta ? 1.f : power_heuristic(p.previous_pdf, e.pdf * picked);
+        if (!p.previous_delta && params_.light_sampling != LightSampling::mis)
+          w = params_.light_sampling == LightSampling::bsdf_only ? 1.f : 0.f;
+        add(p, p.throughput * e.radiance * w, depth);
+      });
   }
 
-  /// Next-event estimation: one sample of every light for every path at a vertex, the
-  /// shadow rays of one light traced as a packet (at the camera rays' `time`) and
-  /// attenuated by the volumes they cross.
+  std::size_t light_count() const { return params_.lights.size() + params_.moving_lights.size(); }
+  /// Calls f with light k (the fixed lights, then those of moving instances) at `time`.
+  template <class Fn>
+  void with_light(std::size_t k, float time, Fn&& f) const {
+    if (k < params_.lights.size()) return f(params_.lights[k]);
+    f(params_.moving_lights[k - params_.lights.size()].at(time));
+  }
+  /// lightSamples below the number of lights: each light sample picks its light.
+  bool picks_lights() const {
+    return params_.light_samples > 0 && static_cast<std::size_t>(params_.light_samples) < light_count();
+  }
+  /// How often a vertex's light samples pick a given light, on average (lightSamples /
+  /// lights; 1 when every light is sampled).
+  float light_pick_probability() const {
+    return picks_lights() ? static_cast<float>(params_.light_samples) / static_cast<float>(light_count()) : 1.f;
+  }
+
+  /// Next-event estimation: one sample of every light for every path at a vertex (or
+  /// of lightSamples lights picked at random, each lane its own), the shadow rays of one
+  /// round traced as a packet (at the camera rays' `time`, where lights of moving
+  /// instances are placed) and attenuated by the volumes they cross.
   void sample_lights(Path* path, const Vertex* vertex, const F& time) const {
     // Without light sampling only BSDF-sampled rays find lights; delta lights then vanish.
-    if (params_.light_sampling == LightSampling::bsdf_only) return;
-    for (const Light& light : params_.lights) {
+    if (params_.light_sampling == LightSampling::bsdf_only || light_count() == 0) return;
+    const bool pick = picks_lights();
+    const float picked = light_pick_probability();
+    const std::size_t rounds = pick ? static_cast<std::size_t>(params_.light_samples) : light_count();
+    for (std::size_t round = 0; round < rounds; ++round) {
       Shadow shadow[W];
       for (int i = 0; i < W; ++i) {
         Path& p = path[i];
         const Vertex& v = vertex[i];
         if (!p.alive || v.kind == Vertex::Kind::none) continue;
-        const bool medium = v.kind == Vertex::Kind::medium;
-        const auto u = p.rng.next_2d();
-        const std::optional<LightSample> ls = sample(light, p.p, medium ? splat(0.f) : p.sp.n, u.u, u.v);
-        if (!ls) continue;
-        const BsdfValue f = scattering(p, v, ls->dir);
-        if (!(std::max({f.f_cos.x, f.f_cos.y, f.f_cos.z}) > 0.f)) continue;
-        const float w = std::isfinite(ls->pdf) && params_.light_sampling == LightSampling::mis
-                            ? power_heuristic(ls->pdf, f.pdf)
-                            : 1.f;
-        shadow[i] = {p.throughput * f.f_cos * ls->weight * w, ls->dir,
-                     std::isfinite(ls->dist) ? ls->dist * (1.f - 1e-4f) : std::numeric_limits<float>::infinity(),
-                     std::nullopt};
+        const std::size_t k =
+            pick ? std::min(static_cast<std::size_t>(p.rng.next_1d() * static_cast<float>(light_count())), light_count() - 1)
+                 : round;
+        with_light(k, p.time, [&](const Light& light) {
+          const bool medium = v.kind == Vertex::Kind::medium;
+          const auto u = p.rng.next_2d();
+          const std::optional<LightSample> ls = sample(light, p.p, medium ? splat(0.f) : p.sp.n, u.u, u.v);
+          if (!ls) return;
+          const BsdfValue f = scattering(p, v, ls->dir);
+          if (!(std::max({f.f_cos.x, f.f_cos.y, f.f_cos.z}) > 0.f)) return;
+          const float w = std::isfinite(ls->pdf) && params_.light_sampling == LightSampling::mis
+                              ? power_heuristic(ls->pdf * picked, f.pdf)
+                              : 1.f;
+          shadow[i] = {p.throughput * f.f_cos * ls->weight * (w / picked), ls->dir,
+                       std::isfinite(ls->dist) ? ls->dist * (1.f - 1e-4f) : std::numeric_limits<float>::infinity(),
+                       std::nullopt};
+        });
       }
       cast_shadow_rays(path, vertex, shadow, time);
     }

@@ -103,13 +103,16 @@ public:
     }
     // Colours with alpha below 1 are translucent too.
     if constexpr (requires { world.translucent_colors(); }) any_transparent_ = any_transparent_ || world.translucent_colors();
-    for (const Light& l : params_.lights) {
-      if (const auto* h = std::get_if<HdriLight>(&l); h && h->visible && !environment_) environment_ = h;
-      if (const auto* a = std::get_if<AmbientLight>(&l))
-        ambient_ = ambient_ + emitted(l);
+    const auto add_light = [&](const DirectLight& d) {
+      const Light& l = d.kind();
+      if (const auto* h = std::get_if<HdriLight>(&l); h && h->visible && !environment_) environment_ = d;
+      if (std::holds_alternative<AmbientLight>(l))
+        ambient_ = ambient_ + emitted(l);  // the same wherever an instance places it
       else
-        direct_lights_.push_back(&l);
-    }
+        direct_lights_.push_back(d);
+    };
+    for (const Light& l : params_.lights) add_light({&l, nullptr});
+    for (const MovingLight& m : params_.moving_lights) add_light({nullptr, &m});
     // Only AO rays draw random numbers: every light is sampled at one fixed point.
     needs_random_ = params_.ao_samples > 0;
     const Box3f b = world.bounds();
@@ -187,12 +190,34 @@ public:
     }
     out.color = color;
     const F transmitted = (transmittance.x + transmittance.y + transmittance.z) * F(1.f / 3.f);
-    out.alpha = F(1.f) - transmitted * F(1.f - params_.background_alpha);
+    F background_alpha(params_.background_alpha);
+    if (params_.backplate) {
+      alignas(64) float alpha[W];
+      for (int i = 0; i < W; ++i)
+        alpha[i] = background_alpha_at(params_, simd::lane(index.screen_x, i), simd::lane(index.screen_y, i));
+      background_alpha = simd::load<Arch>(alpha);
+    }
+    out.alpha = F(1.f) - transmitted * (F(1.f) - background_alpha);
     out.albedo = select(first_surface, out.albedo, Vec3<F>(params_.background_color));
     return out;
   }
 
 private:
+  /// A light sampled at every hit: one of the world's, or a moving instance's, placed at
+  /// each lane's time.
+  struct DirectLight {
+    const Light* fixed = nullptr;
+    const MovingLight* moving = nullptr;
+    explicit operator bool() const { return fixed || moving; }
+    /// The light as given: its type and parameters other than placement.
+    const Light& kind() const { return fixed ? *fixed : moving->light; }
+    template <class Fn>
+    void with(float time, Fn&& f) const {
+      if (fixed) return f(*fixed);
+      f(moving->at(time));
+    }
+  };
+
   /// The radiance of the visible lights with size that `ray` meets before `t_end`, added
   /// to `color` under `transmittance`.
   void add_visible_lights(const Ray<F>& ray, const M& lanes, const F& t_end, const Vec3<F>& transmittance,
@@ -204,10 +229,12 @@ private:
       if (simd::lane(lanes, i)) {
         const Vec3f org{simd::lane(ray.org.x, i), simd::lane(ray.org.y, i), simd::lane(ray.org.z, i)};
         const Vec3f dir = normalize(Vec3f{simd::lane(ray.dir.x, i), simd::lane(ray.dir.y, i), simd::lane(ray.dir.z, i)});
-        for (const Light* light : direct_lights_) {
-          if (is_delta(*light) || std::holds_alternative<HdriLight>(*light)) continue;
-          if (!std::visit([](const auto& l) { return l.visible; }, *light)) continue;
-          sum = sum + eval(*light, org, Vec3f{0.f, 0.f, 0.f}, dir, simd::lane(t_end, i)).radiance;
+        for (const DirectLight& d : direct_lights_) {
+          if (is_delta(d.kind()) || std::holds_alternative<HdriLight>(d.kind())) continue;
+          if (!std::visit([](const auto& l) { return l.visible; }, d.kind())) continue;
+          d.with(simd::lane(ray.time, i), [&](const Light& light) {
+            sum = sum + eval(light, org, Vec3f{0.f, 0.f, 0.f}, dir, simd::lane(t_end, i)).radiance;
+          });
         }
       }
       any = any || sum.x > 0.f || sum.y > 0.f || sum.z > 0.f;
@@ -224,10 +251,13 @@ private:
     for (int i = 0; i < W; ++i) {
       Vec3f c = params_.background_color;
       if (simd::lane(lanes, i) && params_.backplate) {
-        c = params_.backplate->sample(simd::lane(index.screen_x, i), simd::lane(index.screen_y, i));
+        c = background_at(params_, simd::lane(index.screen_x, i), simd::lane(index.screen_y, i));
       } else if (simd::lane(lanes, i)) {
         const Vec3f dir{simd::lane(ray.dir.x, i), simd::lane(ray.dir.y, i), simd::lane(ray.dir.z, i)};
-        c = environment_->lookup(normalize(dir)) * environment_->color * environment_->intensity;
+        environment_.with(simd::lane(ray.time, i), [&](const Light& l) {
+          const auto& h = std::get<HdriLight>(l);
+          c = h.lookup(normalize(dir)) * h.color * h.intensity;
+        });
       }
       rgb[0][i] = c.x, rgb[1][i] = c.y, rgb[2][i] = c.z;
     }
@@ -362,10 +392,10 @@ private:
       const Vec3<F> glossy = specular ? o.ks * ((shininess + F(2.f)) * F(1.f / (4.f * pi)) /
                                                 (F(2.f) - exp<Arch>(shininess * F(-0.5f * std::numbers::ln2_v<float>))))
                                       : Vec3<F>(splat(0.f));
-      for (const Light* light : direct_lights_) {
+      for (const DirectLight& light : direct_lights_) {
         Vec3<F> wi, weight;
         F dist;
-        if (!sample_light(*light, p, n, lanes, wi, weight, dist)) continue;
+        if (!sample_light(light, p, n, ray.time, lanes, wi, weight, dist)) continue;
         const F cos_theta = dot(n, wi);
         // With shadows, light from below the geometric surface is blocked by the surface itself.
         M lit_lanes = lanes & (cos_theta > F(0.f));
@@ -393,10 +423,10 @@ private:
                             PixelRandom* rng) const {
     Vec3<F> lit = c * Vec3<F>(ambient_) * ambient_visibility(p, n, time, lanes, rng);
     const Vec3<F> diffuse = c * F(1.f / pi);
-    for (const Light* light : direct_lights_) {
+    for (const DirectLight& light : direct_lights_) {
       Vec3<F> wi, weight;
       F dist;
-      if (!sample_light(*light, p, n, lanes, wi, weight, dist)) continue;
+      if (!sample_light(light, p, n, time, lanes, wi, weight, dist)) continue;
       const F cos_theta = dot(n, wi);
       const M lit_lanes = lanes & (cos_theta > F(0.f));
       if (!simd::any(lit_lanes)) continue;
@@ -407,12 +437,13 @@ private:
     return lit;
   }
 
-  /// Per-lane light samples gathered into packets; false where no lane gets light.
-  bool sample_light(const Light& light, const Vec3<F>& p, const Vec3<F>& n, const M& lanes,
+  /// Per-lane light samples (of a moving instance's light placed at each lane's time)
+  /// gathered into packets; false where no lane gets light.
+  bool sample_light(const DirectLight& light, const Vec3<F>& p, const Vec3<F>& n, const F& time, const M& lanes,
                     Vec3<F>& wi, Vec3<F>& weight, F& dist) const {
-    if (const auto* d = std::get_if<DistantLight>(&light); d && d->angular_diameter <= 0.f) {
+    if (const auto* d = light.fixed ? std::get_if<DistantLight>(light.fixed) : nullptr; d && d->angular_diameter <= 0.f) {
       wi = Vec3<F>(-normalize(d->direction));
-      weight = Vec3<F>(emitted(light));
+      weight = Vec3<F>(emitted(*light.fixed));
       dist = F(std::numeric_limits<float>::infinity());
       return true;
     }
@@ -426,8 +457,9 @@ private:
       const Vec3f ni{simd::lane(n.x, i), simd::lane(n.y, i), simd::lane(n.z, i)};
       // OSPRay 3.1's scivis sample point (measured with its runtime): a quad light's
       // centre; (0, 0), the centre of a disk, sphere or cone, for the others.
-      const float at = std::holds_alternative<QuadLight>(light) ? 0.5f : 0.f;
-      const auto s = sample(light, pi, ni, at, at);
+      const float at = std::holds_alternative<QuadLight>(light.kind()) ? 0.5f : 0.f;
+      std::optional<LightSample> s;
+      light.with(simd::lane(time, i), [&](const Light& placed) { s = sample(placed, pi, ni, at, at); });
       if (!s) continue;
       any = true;
       const float values[7] = {s->dir.x, s->dir.y, s->dir.z, s->weight.x, s->weight.y, s->weight.z, s->dist};
@@ -541,8 +573,8 @@ private:
   bool any_transparent_ = false;
   bool needs_random_ = false;
   Vec3f ambient_{0.f, 0.f, 0.f};
-  std::vector<const Light*> direct_lights_;
-  const HdriLight* environment_ = nullptr;  ///< the first visible hdri light: the background
+  std::vector<DirectLight> direct_lights_;
+  DirectLight environment_;  ///< the first visible hdri light: the background
   float scene_size_ = 1.f;
 };
 

@@ -1,8 +1,9 @@
 #pragma once
 // A 2D texture of linear RGB texels (OSPRay `texture2d`), sampled bilinearly (or nearest).
-// Environment maps and backplates read it with the u axis wrapping and the v axis clamped
-// (sample); materials' maps read it by its wrap mode per axis (sample_tiled): OSPRay's
-// `wrapMode`, repeat by default, or mirrored repeat, or clamped to the edge.
+// Environment maps read it with the u axis wrapping and the v axis clamped (sample),
+// backplates clamped on both axes (sample_clamped, as OSPRay 3.1's runtime shows them);
+// materials' maps read it by its wrap mode per axis (sample_tiled): OSPRay's `wrapMode`,
+// repeat by default, or mirrored repeat, or clamped to the edge.
 #include <algorithm>
 #include <cmath>
 #include <memory>
@@ -38,22 +39,26 @@ public:
   int height() const { return height_; }
   const Vec3f& texel(int x, int y) const { return texels_[static_cast<std::size_t>(y) * width_ + x]; }
 
-  /// u wraps, v is clamped: environment maps and backplates.
-  Vec3f sample(float u, float v) const { return lookup<false>(u, v); }
+  /// u wraps, v is clamped: environment maps.
+  Vec3f sample(float u, float v) const { return lookup<Wrapping::environment>(u, v); }
+  /// Both axes clamped: backplates.
+  Vec3f sample_clamped(float u, float v) const { return lookup<Wrapping::clamped>(u, v); }
   /// Each axis by its wrap mode: material maps.
-  Vec3f sample_tiled(float u, float v) const { return lookup<true>(u, v); }
+  Vec3f sample_tiled(float u, float v) const { return lookup<Wrapping::tiled>(u, v); }
   /// The wrap modes of u and v for sample_tiled (both repeat unless set).
   void set_wrap(TextureWrap u, TextureWrap v) { wrap_u_ = u, wrap_v_ = v; }
 
   std::size_t bytes() const { return texels_.size() * sizeof(Vec3f); }
 
 private:
-  /// `Tiled`: by the wrap modes; else u repeats and v is clamped.
-  template <bool Tiled>
+  enum class Wrapping { environment, clamped, tiled };
+  template <Wrapping How>
   Vec3f lookup(float u, float v) const {
     if (!std::isfinite(u) || !std::isfinite(v)) return splat(0.f);
-    const TextureWrap mode_u = Tiled ? wrap_u_ : TextureWrap::repeat;
-    const TextureWrap mode_v = Tiled ? wrap_v_ : TextureWrap::clamp_to_edge;
+    const TextureWrap mode_u = How == Wrapping::tiled     ? wrap_u_
+                               : How == Wrapping::clamped ? TextureWrap::clamp_to_edge
+                                                          : TextureWrap::repeat;
+    const TextureWrap mode_v = How == Wrapping::tiled ? wrap_v_ : TextureWrap::clamp_to_edge;
     // Repeats are periodic: reduce first (by one period, two when mirrored), so that
     // large coordinates keep their precision.
     u = reduce(u, mode_u), v = reduce(v, mode_v);
