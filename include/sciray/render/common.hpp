@@ -100,6 +100,8 @@ struct SurfacePoint {
   /// Position's derivatives along the texture coordinates, which orient normal maps
   /// (mapped_normal); filled only for materials with one (for_each_surface).
   Vec3f dpds{1.f, 0.f, 0.f}, dpdt{0.f, 1.f, 0.f};
+  float t = 0.f;        ///< distance along the ray that found it
+  float epsilon = 0.f;  ///< the geometry's own precision (SurfaceSample::epsilon)
 };
 
 namespace detail {
@@ -224,6 +226,8 @@ void for_each_surface(const WorldT& world, const Ray<simd::Float<Arch>>& ray, co
         const float t = simd::lane(hit.t, i);
         SurfacePoint s;
         s.p = Vec3f{simd::lane(ray.org.x, i), simd::lane(ray.org.y, i), simd::lane(ray.org.z, i)} + dir * t;
+        s.t = t * length(dir);
+        s.epsilon = simd::lane(surface.epsilon, i);
         Vec3f g{simd::lane(ng.x, i), simd::lane(ng.y, i), simd::lane(ng.z, i)};
         Vec3f n{simd::lane(surface.normal.x, i), simd::lane(surface.normal.y, i), simd::lane(surface.normal.z, i)};
         const float gl = length(g), nl = length(n);
@@ -308,11 +312,13 @@ void record_volume_entry(const WorldT& world, const VolumeEntry<Arch>& entry, Pi
 }
 
 /// How far a secondary ray starts off the surface it leaves, along the geometric normal:
-/// a few float ulps of the hit position (so that hits far from the origin do not shadow
-/// themselves) plus a tiny fraction of the scene.
-inline float ray_offset(const Vec3f& p, float scene_size) {
-  const float magnitude = std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)});
-  return 8e-6f * magnitude + 1e-6f * scene_size;
+/// OSPRay's epsilon, about 8 ulps of the larger of the hit's largest coordinate and its
+/// distance `t` along the ray that found it, or the geometry's own where larger (a
+/// sphere's, by its radius) — so that a small sphere far from the origin is not left
+/// behind, nor a big one shadows itself.
+inline float ray_offset(const Vec3f& p, float t, float geometry_epsilon) {
+  const float magnitude = std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z), t});
+  return std::max(0x1.fp-21f * magnitude, geometry_epsilon);
 }
 
 /// How far each active lane's camera ray reaches: map_maxDepth at its pixel centre

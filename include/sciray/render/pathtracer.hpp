@@ -80,8 +80,6 @@ public:
     if (!(params_.max_contribution > 0.f)) throw Error("pathtracer renderer: parameter 'maxContribution' must be positive");
     // No light samples (as OSPRay's lightSamples 0): lights are found by BSDF sampling only.
     if (params_.light_samples == 0) params_.light_sampling = LightSampling::bsdf_only;
-    const Box3f b = world.bounds();
-    scene_size_ = b.empty() ? 1.f : length(b.size());
     for (const Material& m : params_.materials) normal_mapped_.push_back(has_normal_map(m));
   }
 
@@ -232,7 +230,7 @@ public:
           p.previous_delta = b->delta;
           p.previous_normal = p.sp.n;
           if (b->transmitted && has_medium(m)) p.medium = v.surface.front ? v.surface.material : no_material;
-          const float offset = detail::ray_offset(p.p, scene_size_);
+          const float offset = detail::ray_offset(p.p, p.sp.t, p.sp.epsilon);
           p.org = p.p + (b->transmitted ? -p.sp.ng : p.sp.ng) * offset;
           p.dir = b->wi;
         }
@@ -497,7 +495,7 @@ private:
       if (!(std::max({f.f_cos.x, f.f_cos.y, f.f_cos.z}) > 0.f)) return;
       const float mis = params_.light_sampling == LightSampling::mis ? power_heuristic(light_pdf, f.pdf) : 1.f;
       // The shadow ray ends just off the emitter, on the side it leaves towards the path.
-      const Vec3f end = s.p + s.ng * detail::ray_offset(s.p, scene_size_);
+      const Vec3f end = s.p + s.ng * detail::ray_offset(s.p, dist, s.epsilon);
       shadow[i] = {p.throughput * f.f_cos * radiance * (mis / light_pdf), w, 0.f, end};
     });
     cast_shadow_rays(path, vertex, shadow, time);
@@ -552,7 +550,7 @@ private:
       if (wanted && vertex[i].kind == Vertex::Kind::surface) {
         const Vec3f& ng = path[i].sp.ng;
         const bool below = dot(s.dir, ng) < 0.f;  // transmission: leave from the other side
-        org = org + (below ? -ng : ng) * detail::ray_offset(org, scene_size_);
+        org = org + (below ? -ng : ng) * detail::ray_offset(org, path[i].sp.t, path[i].sp.epsilon);
       }
       Vec3f dir = s.dir;
       float reach = s.reach;
@@ -581,7 +579,6 @@ private:
   const WorldT* world_;
   PathTracerParams params_;
   GeometryLights<WorldT> geometry_lights_;  ///< emissive geometry, for light sampling
-  float scene_size_ = 1.f;
   std::vector<bool> normal_mapped_;  ///< per material: has a normal map
 };
 
