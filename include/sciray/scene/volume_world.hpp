@@ -21,6 +21,8 @@ template <class WorldT, class... Volumes>
 class VolumeWorld : public WorldT {
 public:
   using WorldT::WorldT;
+  /// The geometry visitor (the volume one below, private, would hide it).
+  using WorldT::visit;
 
   /// Adds a volumetric model placed directly in the world; returns its placement's index
   /// among this world's volumes.
