@@ -290,8 +290,9 @@ OSPCamera ospNewCamera(const char* type) {
 OSPGeometry ospNewGeometry(const char* type) {
   return guarded("ospNewGeometry", [&] {
     const std::string t = type_string(type);
-    if (t != "mesh" && t != "sphere" && t != "curve" && t != "box" && t != "plane" && t != "isosurface")
-      unknown_type("geometry", t, "mesh, sphere, curve, box, plane, isosurface");
+    if (t != "mesh" && t != "sphere" && t != "curve" && t != "box" && t != "plane" && t != "isosurface" &&
+        t != "subdivision")
+      unknown_type("geometry", t, "mesh, sphere, curve, box, plane, isosurface, subdivision");
     return handle_of<OSPGeometry>(new Geometry(t));
   }, OSPGeometry{});
 }
