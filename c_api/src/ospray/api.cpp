@@ -90,6 +90,7 @@ Vec3f to_group_space(const sciray::Affine3f& m, const Vec3f& x) {
 
 void report_unused(Object& o, const std::vector<std::string>& unused) {
   for (const auto& id : unused) device().warn(o.name() + ": parameter '" + id + "' is not used (unknown or not supported)");
+  for (const auto& message : o.debug_messages()) device().status(OSP_LOG_DEBUG, o.name() + ": " + message);
 }
 
 }  // namespace

@@ -326,12 +326,16 @@ void Geometry::commit_subdivision() {
     data->face_sizes.assign(data->indices.size() / 4, 4);
   }
 
-  // OSPRay takes only a vec2ui `edgeCrease.index` and ignores other arrays (so its own
-  // test scenes pass vec2i creases that have no effect): left unread, reported unused.
+  // OSPRay takes only a vec2ui `edgeCrease.index` and ignores a vec2i one with a message
+  // at debug level (its own subdivision_cube scene passes one, and its reference images
+  // show no edge creases): so does sciray.
   const Param* edge_crease = find("edgeCrease.index");
   if (edge_crease && edge_crease->object && edge_crease->object->kind() == OSP_DATA &&
-      static_cast<const Data*>(edge_crease->object.get())->element_type() == OSP_VEC2I)
-    edge_crease->used = false, edge_crease = nullptr;
+      static_cast<const Data*>(edge_crease->object.get())->element_type() == OSP_VEC2I) {
+    debug_message("ignoring 'edgeCrease.index' (an array of vec2i; edge creases take vec2ui, as in OSPRay)");
+    find("edgeCrease.weight");
+    edge_crease = nullptr;
+  }
   if (const Data* creases = get_data(*this, edge_crease, "edgeCrease.index", {OSP_VEC2UI})) {
     read_uints(*creases, 2, data->edge_creases);
     const Data* weights = get_data(*this, find("edgeCrease.weight"), "edgeCrease.weight", {OSP_FLOAT});

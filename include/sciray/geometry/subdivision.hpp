@@ -143,8 +143,9 @@ public:
     return box;
   }
 
-  /// A committed Embree subdivision geometry reading this surface's arrays in place. It
-  /// is kept for shading (rtcInterpolate): surface() needs the geometry it was hit on.
+  /// A committed Embree subdivision geometry reading this surface's arrays in place
+  /// (positions and texture coordinates copied, see below). It is kept for shading
+  /// (rtcInterpolate): surface() needs the geometry it was hit on.
   template <class Arch>
   RTCGeometry create_embree_geometry(const accel::Device& device) const {
     const SubdivisionData& d = *data_;
@@ -154,7 +155,19 @@ public:
       using T = typename std::decay_t<decltype(array)>::value_type;
       rtcSetSharedGeometryBuffer(g, type, slot, format, array.data(), 0, per_item * sizeof(T), array.size() / per_item);
     };
-    share(RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, d.positions, 3);
+    // Embree reads each control point (and attribute) with a 4-float load and checks
+    // that every lane is finite: positions and texture coordinates are copied to 16-byte
+    // elements with zeros after them, where the shared arrays would expose the bytes
+    // after their last element.
+    const auto copy_padded = [&](RTCBufferType type, unsigned slot, RTCFormat format, const PaddedVector<float>& from,
+                                 std::size_t components) {
+      const std::size_t count = from.size() / components;
+      auto* to = static_cast<float*>(rtcSetNewGeometryBuffer(g, type, slot, format, 4 * sizeof(float), count));
+      if (!to) return;
+      for (std::size_t i = 0; i < count; ++i)
+        for (std::size_t c = 0; c < 4; ++c) to[4 * i + c] = c < components ? from[components * i + c] : 0.f;
+    };
+    copy_padded(RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, d.positions, 3);
     share(RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT, d.indices, 1);
     share(RTC_BUFFER_TYPE_FACE, 0, RTC_FORMAT_UINT, d.face_sizes, 1);
     const auto mode = static_cast<RTCSubdivisionMode>(d.mode);
@@ -185,7 +198,7 @@ public:
       if (d.face_varying_colors) rtcSetGeometryVertexAttributeTopology(g, color_slot, face_varying_topology);
     }
     if (!d.texcoords.empty()) {
-      share(RTC_BUFFER_TYPE_VERTEX_ATTRIBUTE, texcoord_slot, RTC_FORMAT_FLOAT2, d.texcoords, 2);
+      copy_padded(RTC_BUFFER_TYPE_VERTEX_ATTRIBUTE, texcoord_slot, RTC_FORMAT_FLOAT2, d.texcoords, 2);
       if (d.face_varying_texcoords) rtcSetGeometryVertexAttributeTopology(g, texcoord_slot, face_varying_topology);
     }
     if (d.edge_levels.empty())
