@@ -210,6 +210,29 @@ TEST_CASE("subdivision: bad input is named", "[subdivision]") {
   fails(d, "'mode' has unknown value 7");
 }
 
+TEST_CASE("subdivision: a closed surface clips its inside and an open one is refused", "[subdivision][clipping]") {
+  accel::Device device;
+  Clipping clipping, inverted;
+  clipping.add_subdivision(std::make_shared<const SubdivisionData>(cube()));
+  inverted.add_subdivision(std::make_shared<const SubdivisionData>(cube()), true);
+  clipping.commit(device);
+  inverted.commit(device);
+  // The limit surface, not the cage, bounds the clipped region: x = 0.9 lies between.
+  for (const Vec3f& p : {Vec3f{0.f, 0.f, 0.f}, Vec3f{0.8f, 0.f, 0.f}, Vec3f{0.3f, -0.4f, 0.45f}}) {
+    CHECK(clipping.clipped(p));
+    CHECK_FALSE(inverted.clipped(p));
+  }
+  for (const Vec3f& p : {Vec3f{0.9f, 0.f, 0.f}, Vec3f{0.f, 0.f, 2.f}, Vec3f{0.75f, 0.75f, 0.75f}}) {
+    CHECK_FALSE(clipping.clipped(p));
+    CHECK(inverted.clipped(p));
+  }
+  SubdivisionData open = cube();
+  open.indices.resize(20), open.face_sizes.resize(5);
+  Clipping refuses;
+  CHECK_THROWS_WITH(refuses.add_subdivision(std::make_shared<const SubdivisionData>(std::move(open))),
+                    Catch::Contains("only a closed subdivision surface can clip"));
+}
+
 // ---- the C API ----------------------------------------------------------------------
 
 namespace {
