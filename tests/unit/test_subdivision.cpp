@@ -1,15 +1,14 @@
 // Catmull-Clark subdivision surfaces (Embree's, behind sciray's Subdivision) against the
 // limit points of a cube worked out by hand, creases, attribute interpolation and
 // validation; and OSPRay's `subdivision` geometry through the C API.
-#include <catch2/catch.hpp>
+#include <ospray/ospray.h>
+#include <ospray/ospray_util.h>
 
+#include <catch2/catch.hpp>
 #include <cmath>
 #include <limits>
 #include <string>
 #include <vector>
-
-#include <ospray/ospray.h>
-#include <ospray/ospray_util.h>
 
 #include "sciray/shim/engine.hpp"
 #include "support/api_fixture.hpp"
@@ -58,11 +57,14 @@ std::vector<Vec3f> directions(std::size_t n) {
   return out;
 }
 
-float max_abs(const Vec3f& p) { return std::max({std::fabs(p.x), std::fabs(p.y), std::fabs(p.z)}); }
+float max_abs(const Vec3f& p) {
+  return std::max({std::fabs(p.x), std::fabs(p.y), std::fabs(p.z)});
+}
 
 }  // namespace
 
-TEST_CASE("subdivision: the limit surface of a smooth cube passes the limit points worked out by hand", "[subdivision]") {
+TEST_CASE("subdivision: the limit surface of a smooth cube passes the limit points worked out by hand",
+          "[subdivision]") {
   // One Catmull-Clark step of the cube, then the limit stencils: a face centre's limit
   // point (valence 4) lies at 68/81 along its axis, a corner's (valence 3) at (1/2, 1/2, 1/2).
   accel::Device device;
@@ -268,7 +270,7 @@ TEST_CASE("subdivision: picks land on the limit surface through the C API", "[c_
     ospRenderFrameBlocking(fb, renderer, scene.camera, scene.world);
     const auto* pixels = static_cast<const float*>(ospMapFrameBuffer(fb, OSP_FB_COLOR));
     CHECK(pixels[4 * (16 * 32 + 16) + 3] == Approx(1.f));  // the centre is covered
-    CHECK(pixels[3] == Approx(0.f));                        // a corner is background
+    CHECK(pixels[3] == Approx(0.f));                       // a corner is background
     ospUnmapFrameBuffer(pixels, fb);
     ospRelease(fb);
     ospRelease(renderer);

@@ -353,7 +353,8 @@ void Geometry::commit_subdivision() {
   // which win). Per-vertex arrays need only cover the vertices `index` uses (OSPRay's
   // scenes pad the positions for Embree, not the colours); the rest are filled.
   std::size_t used = 0;
-  for (std::uint32_t v : data->indices) used = std::max<std::size_t>(used, std::min<std::size_t>(v, position->size() - 1) + 1);
+  for (std::uint32_t v : data->indices)
+    used = std::max<std::size_t>(used, std::min<std::size_t>(v, position->size() - 1) + 1);
   const auto attribute = [&](const std::string& id, std::initializer_list<OSPDataType> types, int pad_to,
                              PaddedVector<float>& out, bool& face_varying) {
     const Data* values = get_data(*this, find(id), id, types);

@@ -139,7 +139,8 @@ public:
   Box3f bounds() const {
     const SubdivisionData& d = *data_;
     Box3f box;
-    for (std::uint32_t v : d.indices) box.extend(Vec3f{d.positions[3 * v], d.positions[3 * v + 1], d.positions[3 * v + 2]});
+    for (std::uint32_t v : d.indices)
+      box.extend(Vec3f{d.positions[3 * v], d.positions[3 * v + 1], d.positions[3 * v + 2]});
     return box;
   }
 
@@ -182,8 +183,8 @@ public:
     }
     // Face-varying attributes index their values by face corner: a second topology
     // whose index is the corner's own number, subdivided in the same mode.
-    const bool face_varying = (!d.colors.empty() && d.face_varying_colors) ||
-                              (!d.texcoords.empty() && d.face_varying_texcoords);
+    const bool face_varying =
+        (!d.colors.empty() && d.face_varying_colors) || (!d.texcoords.empty() && d.face_varying_texcoords);
     if (face_varying) {
       rtcSetGeometryTopologyCount(g, 2);
       auto* corner = static_cast<std::uint32_t*>(rtcSetNewGeometryBuffer(
@@ -309,7 +310,8 @@ private:
     const std::size_t expected = face_varying ? d.indices.size() : d.vertex_count();
     if (values.size() != components * expected)
       throw Error(std::string("subdivision: '") + name + "' has " + std::to_string(values.size() / components) +
-                  " elements but there are " + std::to_string(expected) + (face_varying ? " face corners" : " vertices"));
+                  " elements but there are " + std::to_string(expected) +
+                  (face_varying ? " face corners" : " vertices"));
     for (std::size_t i = 0; i < values.size(); ++i)
       if (!std::isfinite(values[i]))
         throw Error(std::string("subdivision: '") + name + "' " + std::to_string(i / components) + " is not finite");

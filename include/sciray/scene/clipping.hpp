@@ -53,7 +53,8 @@ public:
   /// A closed, consistently oriented triangle or quad mesh; its inside is clipped.
   void add_mesh(std::shared_ptr<const MeshData> mesh, bool invert = false) {
     if (meshes_.size() + subdivisions_.size() == max_meshes)
-      throw Error("clipping: at most " + std::to_string(max_meshes) + " clipping meshes and subdivision surfaces are supported");
+      throw Error("clipping: at most " + std::to_string(max_meshes) +
+                  " clipping meshes are supported (subdivision surfaces count as meshes)");
     TriangleMesh(mesh).validate();
     meshes_.push_back({std::move(mesh), invert});
     mesh_scene_.reset();
@@ -63,7 +64,8 @@ public:
   /// clipped. Shares max_meshes with the meshes.
   void add_subdivision(std::shared_ptr<const SubdivisionData> surface, bool invert = false) {
     if (meshes_.size() + subdivisions_.size() == max_meshes)
-      throw Error("clipping: at most " + std::to_string(max_meshes) + " clipping meshes and subdivision surfaces are supported");
+      throw Error("clipping: at most " + std::to_string(max_meshes) +
+                  " clipping meshes are supported (subdivision surfaces count as meshes)");
     Subdivision(surface).validate();
     std::unordered_map<std::uint64_t, int> faces_of_edge;
     std::size_t first = 0;
