@@ -90,6 +90,7 @@ Vec3f to_group_space(const sciray::Affine3f& m, const Vec3f& x) {
 
 void report_unused(Object& o, const std::vector<std::string>& unused) {
   for (const auto& id : unused) device().warn(o.name() + ": parameter '" + id + "' is not used (unknown or not supported)");
+  for (const auto& message : o.debug_messages()) device().status(OSP_LOG_DEBUG, o.name() + ": " + message);
 }
 
 }  // namespace
@@ -290,8 +291,9 @@ OSPCamera ospNewCamera(const char* type) {
 OSPGeometry ospNewGeometry(const char* type) {
   return guarded("ospNewGeometry", [&] {
     const std::string t = type_string(type);
-    if (t != "mesh" && t != "sphere" && t != "curve" && t != "box" && t != "plane" && t != "isosurface")
-      unknown_type("geometry", t, "mesh, sphere, curve, box, plane, isosurface");
+    if (t != "mesh" && t != "sphere" && t != "curve" && t != "box" && t != "plane" && t != "isosurface" &&
+        t != "subdivision")
+      unknown_type("geometry", t, "mesh, sphere, curve, box, plane, isosurface, subdivision");
     return handle_of<OSPGeometry>(new Geometry(t));
   }, OSPGeometry{});
 }

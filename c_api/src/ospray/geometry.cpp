@@ -1,4 +1,4 @@
-// OSPRay's geometries (mesh, sphere, curve, box, plane, isosurface) and geometric models.
+// OSPRay's geometries (mesh, sphere, curve, box, plane, isosurface, subdivision) and geometric models.
 #include "scene_common.hpp"
 
 #include <algorithm>
@@ -22,6 +22,8 @@ void Geometry::on_commit() {
     commit_planes();
   else if (subtype() == "isosurface")
     commit_isosurface();
+  else if (subtype() == "subdivision")
+    commit_subdivision();
   else
     commit_mesh();
 }
@@ -141,13 +143,15 @@ void Geometry::commit_mesh() {
 
 namespace {
 
-/// The bounds Embree gives `curves` (as OSPRay reports them): each segment's own
-/// bounds — tight around a B-spline, grown by the larger end radius around a linear
-/// segment — which programs frame their cameras by, so sciray reports the same.
-Box3f embree_bounds(const Curves& curves) {
+/// The bounds Embree gives `geometry` (as OSPRay reports them), which programs frame
+/// their cameras by, so sciray reports the same: a curve's segments' own bounds — tight
+/// around a B-spline, grown by the larger end radius around a linear segment — and a
+/// subdivision surface's tessellated patches, inside its control cage.
+template <class G>
+Box3f embree_bounds(const G& geometry_of) {
   static const accel::Device device;  // one for all bounds queries; Embree devices are thread-safe
   accel::Scene scene(device);
-  const RTCGeometry geometry = curves.create_embree_geometry<simd::scalar>(device);
+  const RTCGeometry geometry = geometry_of.template create_embree_geometry<simd::scalar>(device);
   scene.attach(geometry);
   rtcReleaseGeometry(geometry);
   scene.commit();
@@ -291,6 +295,94 @@ void Geometry::commit_curves() {
   bounds_ = embree_bounds(check);
   primitive_count_ = check.segment_count();
   curves_ = std::move(data);
+}
+
+void Geometry::commit_subdivision() {
+  const Data* position = get_data(*this, find("vertex.position"), "vertex.position", {OSP_VEC3F});
+  if (!position) throw Error(name() + ": required parameter 'vertex.position' (array of vec3f) is missing");
+  const Data* index = get_data(*this, find("index"), "index", {OSP_UINT, OSP_INT});
+  if (!index) throw Error(name() + ": required parameter 'index' (array of uint) is missing");
+  const Data* face = get_data(*this, find("face"), "face", {OSP_UINT, OSP_INT});
+  const auto read_uints = [](const Data& from, std::size_t components, PaddedVector<std::uint32_t>& to) {
+    to.reserve(components * from.size());
+    for (std::uint64_t i = 0; i < from.size(); ++i)
+      for (std::size_t c = 0; c < components; ++c) {
+        std::uint32_t v;
+        std::memcpy(&v, from.element(i) + 4 * c, sizeof v);  // a negative int becomes out of range
+        to.push_back(v);
+      }
+  };
+
+  auto data = std::make_shared<SubdivisionData>();
+  append_floats(data->positions, *position, 3);
+  read_uints(*index, 1, data->indices);
+  if (face) {
+    read_uints(*face, 1, data->face_sizes);
+  } else {
+    // Without `face`, as OSPRay: all quads.
+    if (data->indices.size() % 4 != 0)
+      throw Error(name() + ": without 'face' every face is a quad, so 'index' must hold a multiple of 4 indices, got " +
+                  std::to_string(data->indices.size()));
+    data->face_sizes.assign(data->indices.size() / 4, 4);
+  }
+
+  // OSPRay takes only a vec2ui `edgeCrease.index` and ignores a vec2i one with a message
+  // at debug level (its own subdivision_cube scene passes one, and its reference images
+  // show no edge creases): so does sciray.
+  const Param* edge_crease = find("edgeCrease.index");
+  if (edge_crease && edge_crease->object && edge_crease->object->kind() == OSP_DATA &&
+      static_cast<const Data*>(edge_crease->object.get())->element_type() == OSP_VEC2I) {
+    debug_message("ignoring 'edgeCrease.index' (an array of vec2i; edge creases take vec2ui, as in OSPRay)");
+    find("edgeCrease.weight");
+    edge_crease = nullptr;
+  }
+  if (const Data* creases = get_data(*this, edge_crease, "edgeCrease.index", {OSP_VEC2UI})) {
+    read_uints(*creases, 2, data->edge_creases);
+    const Data* weights = get_data(*this, find("edgeCrease.weight"), "edgeCrease.weight", {OSP_FLOAT});
+    if (!weights) throw Error(name() + ": 'edgeCrease.index' needs 'edgeCrease.weight' (array of float)");
+    append_floats(data->edge_crease_weights, *weights, 1);
+  }
+  if (const Data* creases = get_data(*this, find("vertexCrease.index"), "vertexCrease.index", {OSP_UINT, OSP_INT})) {
+    read_uints(*creases, 1, data->vertex_creases);
+    const Data* weights = get_data(*this, find("vertexCrease.weight"), "vertexCrease.weight", {OSP_FLOAT});
+    if (!weights) throw Error(name() + ": 'vertexCrease.index' needs 'vertexCrease.weight' (array of float)");
+    append_floats(data->vertex_crease_weights, *weights, 1);
+  }
+
+  // Attributes per control vertex (`vertex.*`) or per face corner (`color`, `texcoord`,
+  // which win). Per-vertex arrays need only cover the vertices `index` uses (OSPRay's
+  // scenes pad the positions for Embree, not the colours); the rest are filled.
+  std::size_t used = 0;
+  for (std::uint32_t v : data->indices)
+    used = std::max<std::size_t>(used, std::min<std::size_t>(v, position->size() - 1) + 1);
+  const auto attribute = [&](const std::string& id, std::initializer_list<OSPDataType> types, int pad_to,
+                             PaddedVector<float>& out, bool& face_varying) {
+    const Data* values = get_data(*this, find(id), id, types);
+    face_varying = values != nullptr;
+    if (!values) values = get_data(*this, find("vertex." + id), "vertex." + id, types);
+    if (!values) return;
+    const int components = values->element_type() == OSP_VEC4F ? 4 : values->element_type() == OSP_VEC3F ? 3 : 2;
+    const std::size_t items = face_varying ? data->indices.size() : used;
+    append_per_item(out, *this, face_varying ? id : "vertex." + id, *values, items,
+                    face_varying ? "face corners" : "vertices 'index' uses", false, components, pad_to);
+    if (!face_varying) out.resize(static_cast<std::size_t>(pad_to) * position->size(), 0.f);
+  };
+  attribute("color", {OSP_VEC4F, OSP_VEC3F}, 4, data->colors, data->face_varying_colors);
+  attribute("texcoord", {OSP_VEC2F}, 2, data->texcoords, data->face_varying_texcoords);
+  if (const Data* levels = get_data(*this, find("index.level"), "index.level", {OSP_FLOAT})) {
+    per_item_count(*this, "index.level", *levels, data->indices.size(), "indices");
+    append_per_item(data->edge_levels, *this, "index.level", *levels, data->indices.size(), "indices", false, 1);
+  }
+  data->level = get_float("level", 5.f);
+  data->mode = static_cast<SubdivisionMode>(get_enum(*this, get_int("mode", OSP_SUBDIVISION_SMOOTH_BOUNDARY), "mode",
+                                                     {"OSP_SUBDIVISION_NO_BOUNDARY", "OSP_SUBDIVISION_SMOOTH_BOUNDARY",
+                                                      "OSP_SUBDIVISION_PIN_CORNERS", "OSP_SUBDIVISION_PIN_BOUNDARY",
+                                                      "OSP_SUBDIVISION_PIN_ALL"}));
+  const Subdivision check(data);
+  check.validate();  // "subdivision: 'face' 2 has 2 vertices; a face needs at least 3"
+  bounds_ = embree_bounds(check);
+  primitive_count_ = data->face_count();
+  subdivision_ = std::move(data);
 }
 
 void Geometry::commit_boxes() {

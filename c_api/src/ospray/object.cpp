@@ -175,6 +175,7 @@ std::vector<std::string> Object::commit() {
   auto previous = committed_;
   committed_ = staged_;
   for (auto& [id, p] : committed_) p.used = false;
+  debug_messages_.clear();
   try {
     on_commit();
   } catch (...) {

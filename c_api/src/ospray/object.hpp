@@ -123,6 +123,9 @@ public:
   /// Makes the staged parameters visible and rebuilds the object's state from them.
   /// Returns the names of parameters the object did not read (OSPRay warns about them).
   std::vector<std::string> commit();
+  /// What the last commit reported at OSPRay's debug level (parameters OSPRay ignores
+  /// without a warning), to be passed on as status messages.
+  const std::vector<std::string>& debug_messages() const { return debug_messages_; }
 
   /// Monotonic stamp of the last successful commit of this object or anything it uses.
   virtual std::uint64_t version() const { return version_; }
@@ -160,6 +163,7 @@ protected:
   T* get_object(const std::string& id, OSPDataType kind, bool required) const;
 
   std::uint64_t version_ = 0;
+  void debug_message(std::string message) { debug_messages_.push_back(std::move(message)); }
 
 private:
   static std::uint64_t next_version() {
@@ -172,6 +176,7 @@ private:
   std::atomic<int> refs_{1};
   std::map<std::string, Param> staged_;
   std::map<std::string, Param> committed_;
+  std::vector<std::string> debug_messages_;
 };
 
 }  // namespace sciray::ospray

@@ -254,9 +254,9 @@ struct PlaneData {
   std::vector<Box3f> bounds;
 };
 
-/// OSPRay's `mesh`, `sphere`, `curve`, `box`, `plane` and `isosurface` geometry; exactly
-/// one of mesh(), spheres(), curves(), boxes(), planes() and isosurface_volume() is set
-/// once committed, according to the subtype.
+/// OSPRay's `mesh`, `sphere`, `curve`, `box`, `plane`, `isosurface` and `subdivision`
+/// geometry; exactly one of mesh(), spheres(), curves(), boxes(), planes(),
+/// isosurface_volume() and subdivision() is set once committed, according to the subtype.
 class Geometry : public Object {
 public:
   explicit Geometry(std::string type) : Object(OSP_GEOMETRY, std::move(type)) {}
@@ -272,6 +272,8 @@ public:
   const std::shared_ptr<const BoxData>& boxes() const { return boxes_; }
   /// The planes as committed, or null.
   const std::shared_ptr<const PlaneData>& planes() const { return planes_; }
+  /// The subdivision surface as committed, or null.
+  const std::shared_ptr<const SubdivisionData>& subdivision() const { return subdivision_; }
   /// An isosurface's volume (as the geometry's `volume`), or null for other geometry.
   VolumeObject* isosurface_volume() const { return iso_volume_.get(); }
   /// The isosurface over the volume's current commit (rebuilt when the volume was
@@ -298,6 +300,7 @@ private:
   void commit_boxes();
   void commit_planes();
   void commit_isosurface();
+  void commit_subdivision();
 
   std::shared_ptr<const MeshData> mesh_;
   std::shared_ptr<const SphereData> spheres_;
@@ -306,6 +309,7 @@ private:
   std::shared_ptr<const CurveData> curves_;
   std::shared_ptr<const BoxData> boxes_;
   std::shared_ptr<const PlaneData> planes_;
+  std::shared_ptr<const SubdivisionData> subdivision_;
   Ref<VolumeObject> iso_volume_;
   std::vector<float> isovalues_;
   std::mutex iso_mutex_;  ///< guards the isosurface, which world builds refresh

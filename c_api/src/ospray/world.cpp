@@ -197,6 +197,18 @@ TriangleMesh model_mesh(const GeometricModel& model, std::vector<std::shared_ptr
   return mesh;
 }
 
+/// The subdivision surface of `model`: the geometry's data shared; the model's colours
+/// (per face, or one for all) replace the surface's own, and its kd multiplies them.
+Subdivision model_subdivision(const GeometricModel& model) {
+  Subdivision surface(model.geometry()->subdivision());
+  if (model.uniform_color())
+    surface.ignore_own_colors();
+  else if (!model.face_colors().empty())
+    surface.set_face_colors(model.face_colors());
+  if (const auto tint = model.tint()) surface.set_material_color(*tint);
+  return surface;
+}
+
 /// The spheres of `model`. They read the geometry's arrays in place; only the colours
 /// (the model's per-sphere colours times kd, or kd alone) are new, and `keep_alive` holds
 /// them and the geometry's data.
@@ -366,6 +378,15 @@ void add_clipper(Clipping& clipping, const GeometricModel& model, const Affine3f
       const Vec3f normal = normalize(m.normal(n) * side);
       clipping.add_plane(normal, -dot(normal, m.point(on_plane)), invert);
     }
+  } else if (const auto& subdivision = geometry.subdivision()) {
+    // Catmull-Clark subdivision commutes with affine maps: place the control cage.
+    auto placed = std::make_shared<SubdivisionData>(*subdivision);
+    for (std::size_t v = 0; 3 * v < placed->positions.size(); ++v) {
+      float* p = &placed->positions[3 * v];
+      const Vec3f q = m.point({p[0], p[1], p[2]});
+      p[0] = q.x, p[1] = q.y, p[2] = q.z;
+    }
+    clipping.add_subdivision(std::move(placed), invert);
   } else {
     const std::shared_ptr<const MeshData>& mesh = geometry.mesh();
     if (const auto edge = open_edge(*mesh))
@@ -437,6 +458,8 @@ std::shared_ptr<const BuiltGroup> World::build_group(Group& group, const shim::I
         add(model_slice(*model, data, std::move(colors)));  // planes coloured by a volume
       else
         add(Planes(data.planes, data.bounds, std::move(colors)));
+    } else if (geometry.subdivision()) {
+      add(model_subdivision(*model));
     } else if (const auto isosurface = geometry.isosurface()) {
       Isosurface shells = *isosurface;  // a copy: the volume is shared
       if (!uncoloured_iso)

@@ -9,18 +9,21 @@
 // surviving hit is found by the same traversal: the clipped surface is simply not there,
 // and what lies behind it shows. Spheres, boxes and planes are tested analytically; a
 // closed mesh by the parity of the crossings of a ray from the point to infinity.
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <cstdint>
 #include <memory>
 #include <optional>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include "sciray/accel/embree.hpp"
 #include "sciray/accel/trace.hpp"
 #include "sciray/error.hpp"
 #include "sciray/geometry/mesh_data.hpp"
+#include "sciray/geometry/subdivision.hpp"
 #include "sciray/geometry/triangle_mesh.hpp"
 #include "sciray/math/box.hpp"
 
@@ -28,7 +31,7 @@ namespace sciray {
 
 class Clipping {
 public:
-  /// Closed meshes are counted in one 64-bit parity word.
+  /// Closed meshes and subdivision surfaces are counted in one 64-bit parity word.
   static constexpr std::size_t max_meshes = 64;
 
   void add_sphere(const Vec3f& center, float radius, bool invert = false) {
@@ -49,27 +52,59 @@ public:
   }
   /// A closed, consistently oriented triangle or quad mesh; its inside is clipped.
   void add_mesh(std::shared_ptr<const MeshData> mesh, bool invert = false) {
-    if (meshes_.size() == max_meshes)
-      throw Error("clipping: at most " + std::to_string(max_meshes) + " clipping meshes are supported");
+    if (meshes_.size() + subdivisions_.size() == max_meshes)
+      throw Error("clipping: at most " + std::to_string(max_meshes) +
+                  " clipping meshes are supported (subdivision surfaces count as meshes)");
     TriangleMesh(mesh).validate();
     meshes_.push_back({std::move(mesh), invert});
     mesh_scene_.reset();
   }
 
-  bool empty() const { return spheres_.empty() && boxes_.empty() && planes_.empty() && meshes_.empty(); }
+  /// A closed subdivision surface (every edge shared by two faces); its inside is
+  /// clipped. Shares max_meshes with the meshes.
+  void add_subdivision(std::shared_ptr<const SubdivisionData> surface, bool invert = false) {
+    if (meshes_.size() + subdivisions_.size() == max_meshes)
+      throw Error("clipping: at most " + std::to_string(max_meshes) +
+                  " clipping meshes are supported (subdivision surfaces count as meshes)");
+    Subdivision(surface).validate();
+    std::unordered_map<std::uint64_t, int> faces_of_edge;
+    std::size_t first = 0;
+    for (std::uint32_t size : surface->face_sizes) {
+      for (std::uint32_t k = 0; k < size; ++k) {
+        const std::uint32_t a = surface->indices[first + k], b = surface->indices[first + (k + 1) % size];
+        ++faces_of_edge[std::uint64_t{std::min(a, b)} << 32 | std::max(a, b)];
+      }
+      first += size;
+    }
+    for (const auto& [edge, faces] : faces_of_edge)
+      if (faces != 2)
+        throw Error("clipping: only a closed subdivision surface can clip, but the edge between vertices " +
+                    std::to_string(edge >> 32) + " and " + std::to_string(edge & 0xffffffffu) + " belongs to " +
+                    std::to_string(faces) + " face" + (faces == 1 ? "" : "s"));
+    subdivisions_.push_back({Subdivision(std::move(surface)), invert});
+    mesh_scene_.reset();
+  }
+
+  bool empty() const {
+    return spheres_.empty() && boxes_.empty() && planes_.empty() && meshes_.empty() && subdivisions_.empty();
+  }
 
   /// Builds the BVH the closed-mesh test traces; call before rendering.
   void commit(const accel::Device& device) {
     mesh_scene_.reset();
-    if (meshes_.empty()) return;
+    if (meshes_.empty() && subdivisions_.empty()) return;
     accel::Scene scene(device);
     rtcSetSceneFlags(scene.get(), RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION | RTC_SCENE_FLAG_ROBUST);
-    for (std::size_t i = 0; i < meshes_.size(); ++i) {
-      RTCGeometry g = TriangleMesh(meshes_[i].mesh).create_embree_geometry<simd::scalar>(device);
-      rtcAttachGeometryByID(scene.get(), g, static_cast<unsigned>(i));
+    const auto attach = [&](RTCGeometry g, std::size_t id) {
+      rtcAttachGeometryByID(scene.get(), g, static_cast<unsigned>(id));
       rtcReleaseGeometry(g);
       device.check("clipping mesh");
-    }
+    };
+    for (std::size_t i = 0; i < meshes_.size(); ++i)
+      attach(TriangleMesh(meshes_[i].mesh).create_embree_geometry<simd::scalar>(device), i);
+    // Subdivision surfaces take the ids (and parity bits) after the meshes.
+    for (std::size_t i = 0; i < subdivisions_.size(); ++i)
+      attach(subdivisions_[i].surface.create_embree_geometry<simd::scalar>(device), meshes_.size() + i);
     scene.commit();
     mesh_scene_.emplace(std::move(scene));
   }
@@ -87,10 +122,12 @@ public:
     }
     for (const auto& plane : planes_)
       if ((dot(plane.normal, p) + plane.d < 0.f) != plane.invert) return true;
-    if (!meshes_.empty()) {
+    if (!meshes_.empty() || !subdivisions_.empty()) {
       const std::uint64_t inside = inside_meshes(p);
       for (std::size_t i = 0; i < meshes_.size(); ++i)
         if (((inside >> i) & 1) != meshes_[i].invert) return true;
+      for (std::size_t i = 0; i < subdivisions_.size(); ++i)
+        if (((inside >> (meshes_.size() + i)) & 1) != subdivisions_[i].invert) return true;
     }
     return false;
   }
@@ -136,7 +173,13 @@ private:
   std::vector<Sphere> spheres_;
   std::vector<BoxClip> boxes_;
   std::vector<Plane> planes_;
+  struct SubdivisionClip {
+    Subdivision surface;
+    bool invert;
+  };
+
   std::vector<Mesh> meshes_;
+  std::vector<SubdivisionClip> subdivisions_;
   std::optional<accel::Scene> mesh_scene_;
 };
 

@@ -15,6 +15,7 @@
 #include "sciray/geometry/isosurface.hpp"
 #include "sciray/geometry/slice.hpp"
 #include "sciray/geometry/spheres.hpp"
+#include "sciray/geometry/subdivision.hpp"
 #include "sciray/geometry/triangle_mesh.hpp"
 #include "sciray/render/camera.hpp"
 #include "sciray/render/pathtracer.hpp"
@@ -32,7 +33,7 @@ namespace sciray::shim {
 /// The full set of geometry and volume types, as the C API and the tool need it: every
 /// voxel type in the linear (shared) and bricked layouts.
 using EngineWorld =
-    VolumeWorld<World<TriangleMesh, Spheres, Curves, Boxes, Planes, Isosurface, VolumeSlice>,
+    VolumeWorld<World<TriangleMesh, Spheres, Curves, Boxes, Planes, Isosurface, VolumeSlice, Subdivision>,
                 StructuredRegular<std::uint8_t>, StructuredRegular<std::int16_t>, StructuredRegular<std::uint16_t>,
                 StructuredRegular<float>, StructuredRegular<double>, StructuredRegular<std::uint8_t, BrickedLayout>,
                 StructuredRegular<std::int16_t, BrickedLayout>, StructuredRegular<std::uint16_t, BrickedLayout>,
