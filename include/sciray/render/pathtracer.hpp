@@ -179,6 +179,7 @@ public:
                             : s.n;
         p.sp = {n, s.ng, s.front, s.color, s.alpha};
         p.p = s.p;
+        p.offset = detail::ray_offset(s.p, s.t, s.epsilon);
         p.material = &textured(material(s), s.uv, p.textured_material);
         const Material& m = *p.material;
         if (const Vec3f e = emitted(m, p.sp, -p.dir); std::max({e.x, e.y, e.z}) > 0.f)
@@ -230,8 +231,7 @@ public:
           p.previous_delta = b->delta;
           p.previous_normal = p.sp.n;
           if (b->transmitted && has_medium(m)) p.medium = v.surface.front ? v.surface.material : no_material;
-          const float offset = detail::ray_offset(p.p, p.sp.t, p.sp.epsilon);
-          p.org = p.p + (b->transmitted ? -p.sp.ng : p.sp.ng) * offset;
+          p.org = p.p + (b->transmitted ? -p.sp.ng : p.sp.ng) * p.offset;
           p.dir = b->wi;
         }
         // Russian roulette: continue with the probability the path's throughput suggests.
@@ -278,6 +278,7 @@ private:
     float alpha = 0.f;
     ShadingPoint sp;
     Vec3f p;
+    float offset = 0.f;  // how far rays leaving p start off the surface (detail::ray_offset)
     float previous_pdf = 0.f;
     bool previous_delta = true;  // the camera ray: lights it sees count fully
     Vec3f previous_normal{0.f, 0.f, 1.f};
@@ -550,7 +551,7 @@ private:
       if (wanted && vertex[i].kind == Vertex::Kind::surface) {
         const Vec3f& ng = path[i].sp.ng;
         const bool below = dot(s.dir, ng) < 0.f;  // transmission: leave from the other side
-        org = org + (below ? -ng : ng) * detail::ray_offset(org, path[i].sp.t, path[i].sp.epsilon);
+        org = org + (below ? -ng : ng) * path[i].offset;
       }
       Vec3f dir = s.dir;
       float reach = s.reach;

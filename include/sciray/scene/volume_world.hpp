@@ -22,7 +22,6 @@ template <class WorldT, class... Volumes>
 class VolumeWorld : public WorldT {
 public:
   using WorldT::WorldT;
-  /// The geometry visitor (the volume one below, private, would hide it).
 
   /// Adds a volumetric model placed directly in the world; returns its placement's index
   /// among this world's volumes.
