@@ -341,6 +341,21 @@ TEST_CASE("Smooth lobes are delta lobes with their exact reflectance", "[bsdf]")
   }
   CHECK((reflected + transmitted) / n == Approx(1.).epsilon(1e-6));
   CHECK(reflected / n == Approx(2. * 0.04 / 1.04).epsilon(0.05));
+
+  // The geometry's colour absorbs as attenuationColor does (OSPRay's thinGlass multiplies
+  // them): a red sheet under white attenuation passes what a white one under red does,
+  // and less green and blue than red.
+  ShadingPoint red = flat();
+  red.color = {1.f, 0.3f, 0.3f};
+  const auto coloured = bsdf_detail::make_bsdf(ThinGlassMaterial{}, red, normal);
+  const auto attenuated = bsdf_detail::make_bsdf(ThinGlassMaterial{1.5f, {1.f, 0.3f, 0.3f}, 1.f, 1.f}, flat(), normal);
+  const auto straight = [](const bsdf_detail::Bsdf& b) {
+    for (int k = 0; k < b.count; ++k)
+      if (b.lobes[k].kind == bsdf_detail::LobeKind::straight) return b.lobes[k].tint;
+    return Vec3f{0.f, 0.f, 0.f};
+  };
+  for (int c = 0; c < 3; ++c) CHECK(straight(coloured)[c] == Approx(straight(attenuated)[c]).epsilon(1e-6));
+  CHECK(straight(coloured).y < 0.5f * straight(coloured).x);
 }
 
 TEST_CASE("No NaN or Inf at grazing angles, below the surface or with degenerate parameters", "[bsdf]") {

@@ -489,9 +489,10 @@ inline void build(Bsdf& b, const GlassMaterial& m, const ShadingPoint& sp) {
   add_interface(b, sp.entering ? m.eta : 1.f / m.eta, 1.f, 0.f, 1.f);
 }
 
-inline void build(Bsdf& b, const ThinGlassMaterial& m, const ShadingPoint&) {
-  const SheetResponse sheet =
-      thin_sheet(b.wo.z, m.eta, 1.f, clamp01(m.attenuation_color), m.thickness / m.attenuation_distance);
+inline void build(Bsdf& b, const ThinGlassMaterial& m, const ShadingPoint& sp) {
+  // The geometry's colour tints the sheet as attenuationColor does (OSPRay's thinGlass).
+  const SheetResponse sheet = thin_sheet(b.wo.z, m.eta, 1.f, clamp01(m.attenuation_color * sp.color),
+                                         m.thickness / m.attenuation_distance);
   b.add(LobeKind::mirror, sheet.r, mean(sheet.r));
   b.add(LobeKind::straight, sheet.t, mean(sheet.t));
 }
