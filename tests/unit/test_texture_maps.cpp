@@ -1,7 +1,8 @@
 // Texture coordinates on geometry and texture maps on materials, end to end: (u, v)
 // interpolated on quads and triangles against the analytic map of a parallelogram,
 // per-sphere texcoords, a checkerboard map_kd rendered by scivis pixel for pixel against
-// the analytic checker, map_d cutting holes that light passes through, the path tracer's
+// the analytic checker, map_d cutting holes that light passes through, map_kd's alpha as
+// opacity (scivis and the path tracer), the path tracer's
 // textured albedo, the C API (texture2d as map_kd, vertex.texcoord, map transforms), PLY
 // texcoord properties, the tool colouring the bunny by its confidence through a colour
 // map, and the errors bad texcoords and bad maps give.
@@ -412,6 +413,85 @@ TEST_CASE("texture maps: textured() resolves maps and leaves untextured material
   // Both axes tile: u = 1.25 and v = -0.75 are the same cell as (0.25, 0.25).
   CHECK(std::get<ObjMaterial>(textured(m, {1.25f, -0.75f}, storage)).kd == Vec3f{0.5f, 0.5f, 0.25f});
   CHECK(std::get<ObjMaterial>(textured(m, {0.75f, 0.25f}, storage)).kd == Vec3f{0.f, 0.f, 0.f});
+}
+
+TEST_CASE("texture maps: the alpha of map_kd and map_baseColor multiplies opacity as in OSPRay", "[texture_maps]") {
+  const auto grey = [](float value) { return checker(1, splat(value), splat(value)); };
+  ObjMaterial obj;
+  obj.d = 0.8f;
+  obj.map_kd = {grey(0.5f), {}, grey(0.25f)};
+  Material storage;
+  const auto& o = std::get<ObjMaterial>(textured(Material(obj), {0.5f, 0.5f}, storage));
+  CHECK(o.kd == splat(0.4f));
+  CHECK(o.d == Approx(0.2f));
+  PrincipledMaterial principled;
+  principled.opacity = 0.8f;
+  principled.map_base_color = {grey(1.f), {}, grey(0.5f)};
+  CHECK(std::get<PrincipledMaterial>(textured(Material(principled), {0.5f, 0.5f}, storage)).opacity == Approx(0.4f));
+  // Other maps' alpha is not opacity (OSPRay reads only these two).
+  obj.map_kd.alpha = nullptr;
+  obj.map_ks = {grey(1.f), {}, grey(0.f)};
+  CHECK(std::get<ObjMaterial>(textured(Material(obj), {0.5f, 0.5f}, storage)).d == Approx(0.8f));
+}
+
+TEST_CASE("texture maps: where map_kd's alpha is 0.25 scivis and the path tracer show 0.75 of the background",
+          "[texture_maps][renderers][pathtracer]") {
+  // A quad filling the view, its map_kd one colour with alpha 1 on the left half (u < 0.5)
+  // and 0.25 on the right.
+  const int size = 32;
+  const Vec3f color{0.8f, 0.6f, 0.4f}, background{0.2f, 0.4f, 0.6f};
+  TestWorld scene;
+  ObjMaterial material;
+  material.kd = {1.f, 1.f, 1.f};
+  material.map_kd.texture = std::make_shared<const Texture2D>(2, 1, std::vector<Vec3f>{color, color}, true);
+  material.map_kd.alpha = std::make_shared<const Texture2D>(2, 1, std::vector<Vec3f>{splat(1.f), splat(0.25f)}, true);
+  scene.world.add(TriangleMesh(textured_rectangle(-1.f, -1.f, 2.f, 2.f, 0.f)), 0);
+  kernels().commit(scene.world);
+  const OrthographicCamera camera = top_view(2.f);
+  const auto left_half = [&](int x, int y) { return ground_point(camera, x, y, size).x < 0.f; };
+  const auto pixel = [&](const Frame& f, int x, int y) {
+    const float* c = &f.rgba[4 * (static_cast<std::size_t>(y) * size + x)];
+    return Vec3f{c[0], c[1], c[2]};
+  };
+
+  // scivis, ambient light 1: kd on the left, 0.25 kd + 0.75 background on the right, exactly.
+  SciVisParams scivis;
+  scivis.materials = {material};
+  scivis.lights = ambient_only();
+  scivis.background_color = background;
+  const Frame local = render(scene.world, scivis, camera, size);
+  double worst = 0.0;
+  for (int y = 0; y < size; ++y)
+    for (int x = 0; x < size; ++x) {
+      const Vec3f expected = left_half(x, y) ? color : color * 0.25f + background * 0.75f;
+      const Vec3f got = pixel(local, x, y);
+      for (int k = 0; k < 3; ++k) worst = std::max(worst, double(std::abs((&got.x)[k] - (&expected.x)[k])));
+    }
+
+  // The path tracer without lights: the surface is black, and a path passes it with
+  // probability 0.75 on the right half, so the mean there is 0.75 background; 16 samples
+  // on each of 512 pixels give a standard deviation of 0.005 of it, checked to within 0.03.
+  PathTracerParams path;
+  path.materials = {material};
+  path.background_color = background;
+  const Frame traced = render(scene.world, path, camera, size, 1, 16);
+  Vec3f sum_left = splat(0.f), sum_right = splat(0.f);
+  for (int y = 0; y < size; ++y)
+    for (int x = 0; x < size; ++x) {
+      Vec3f& sum = left_half(x, y) ? sum_left : sum_right;
+      sum = sum + pixel(traced, x, y);
+    }
+  const float half = size * size / 2.f;
+  const Vec3f mean_left = sum_left / half, mean_right = sum_right / half;
+  std::printf("[texture_maps] map_kd alpha 0.25: scivis max |error| %.2e; pathtracer mean (%.3f %.3f %.3f) for "
+              "(%.3f %.3f %.3f), left half (%.3f %.3f %.3f)\n",
+              worst, mean_right.x, mean_right.y, mean_right.z, 0.75f * background.x, 0.75f * background.y,
+              0.75f * background.z, mean_left.x, mean_left.y, mean_left.z);
+  CHECK(worst < 1e-5);
+  for (int k = 0; k < 3; ++k) {
+    CHECK((&mean_right.x)[k] == Approx(0.75f * (&background.x)[k]).epsilon(0.03));
+    CHECK((&mean_left.x)[k] == Approx(0.f).margin(1e-6));
+  }
 }
 
 TEST_CASE("texture coordinates: bad texcoords are named", "[texture_maps][errors]") {

@@ -130,11 +130,14 @@ sciray::Material Material::material() const {
   sciray::Material m = material_;
   for_each_map(m, [&](const char* id, TextureMap& map) {
     for (const ImageMap& image : image_maps_)
-      if (image.name == id) map = {image.texture->image(), image.transform};
+      if (image.name == id) {
+        const bool alpha_is_opacity = image.name == "map_kd" || image.name == "map_baseColor";
+        map = {image.texture->image(), image.transform, alpha_is_opacity ? image.texture->alpha_image() : nullptr};
+      }
   });
   for_each_normal_map(m, [&](const char* id, NormalMap& map) {
     for (const ImageMap& image : image_maps_)
-      if (image.name == id) map = {{image.texture->normal_image(), image.transform}};
+      if (image.name == id) map = {{image.texture->normal_image(), image.transform, nullptr}};
   });
   return m;
 }

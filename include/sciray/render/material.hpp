@@ -255,7 +255,8 @@ inline bool has_maps(const Material& material) {
 /// The material at surface texture coordinates `uv`: `material` itself where it has no
 /// maps (no copy: the untextured path costs a test), otherwise `storage`, filled with its
 /// parameters times their maps (scalar maps by the first channel; parameters in [0, 1]
-/// stay there) and no maps. Shared textures are not copied, so the many threads that
+/// stay there; the alpha of obj map_kd and principled map_baseColor multiplies the opacity)
+/// and no maps. Shared textures are not copied, so the many threads that
 /// shade one textured material contend on no reference count.
 inline const Material& textured(const Material& material, const TexCoord<float>& uv, Material& storage) {
   if (!has_maps(material)) return material;
@@ -280,13 +281,19 @@ inline const Material& textured(const Material& material, const TexCoord<float>&
             field = field * t.x;
         };
         const auto unit = [](float& v) { v = std::min(v, 1.f); };
+        // The colour map's alpha is opacity too (OSPRay's OBJ and Principled materials).
+        const auto cut_out = [&](const TextureMap& map, float& opacity) {
+          if (map.alpha) opacity *= map.alpha_at(uv);
+        };
         if constexpr (std::is_same_v<M, ObjMaterial>) {
           scale(m.map_kd, out.kd), scale(m.map_ks, out.ks), scale(m.map_ns, out.ns), scale(m.map_d, out.d);
+          cut_out(m.map_kd, out.d);
           unit(out.d);
         } else if constexpr (std::is_same_v<M, PrincipledMaterial>) {
           scale(m.map_base_color, out.base_color), scale(m.map_roughness, out.roughness);
           scale(m.map_metallic, out.metallic), scale(m.map_opacity, out.opacity);
           unit(out.roughness), unit(out.metallic), unit(out.opacity);
+          cut_out(m.map_base_color, out.opacity);
         } else if constexpr (std::is_same_v<M, LuminousMaterial>) {
           scale(m.map_color, out.color);
         }

@@ -66,10 +66,12 @@ simd::Float<Arch> exp(const simd::Float<Arch>& x) {
     return xsimd::exp(x);
 }
 
-/// Whether `m` has a map that changes its opacity (obj map_d, principled map_opacity).
+/// Whether `m` has a map that changes its opacity (obj map_d or map_kd's alpha, principled
+/// map_opacity or map_baseColor's alpha).
 inline bool opacity_mapped(const Material& m) {
-  if (const auto* obj = std::get_if<ObjMaterial>(&m)) return bool(obj->map_d);
-  if (const auto* principled = std::get_if<PrincipledMaterial>(&m)) return bool(principled->map_opacity);
+  if (const auto* obj = std::get_if<ObjMaterial>(&m)) return obj->map_d || obj->map_kd.alpha;
+  if (const auto* principled = std::get_if<PrincipledMaterial>(&m))
+    return principled->map_opacity || principled->map_base_color.alpha;
   return false;
 }
 

@@ -159,12 +159,21 @@ struct TexCoordTransform {
 struct TextureMap {
   std::shared_ptr<const Texture2D> texture;
   TexCoordTransform transform;
+  /// The texture's alpha channel as grey texels, where its format has one and the map reads
+  /// it: OSPRay multiplies the opacity of obj and principled materials by the alpha of their
+  /// map_kd and map_baseColor. Null otherwise, which costs a map nothing per hit.
+  std::shared_ptr<const Texture2D> alpha;
 
   explicit operator bool() const { return texture != nullptr; }
   /// The texture's colour at surface coordinates uv; scalar maps read its first channel.
   Vec3f at(const TexCoord<float>& uv) const {
     const TexCoord<float> t = transform(uv);
     return texture->sample_tiled(t.u, t.v);
+  }
+  /// The alpha at surface coordinates uv; call only where `alpha` is set.
+  float alpha_at(const TexCoord<float>& uv) const {
+    const TexCoord<float> t = transform(uv);
+    return alpha->sample_tiled(t.u, t.v).x;
   }
 };
 
