@@ -321,36 +321,36 @@ TEST_CASE("every OSPTextureFormat colours a map_kd, half floats included", "[c_a
   struct Case {
     OSPTextureFormat format;
     OSPDataType type;
-    std::vector<std::uint8_t> bytes;  // one texel
+    std::vector<std::uint8_t> bytes;  // one texel, opaque: a map_kd's alpha is opacity (test_texture_maps.cpp)
     std::array<float, 3> linear;      // sciray's textures are RGB: grey from one or two channels
   };
   using u8 = std::uint8_t;
   using u16 = std::uint16_t;
   const Case cases[] = {
-      {OSP_TEXTURE_RGBA8, OSP_VEC4UC, of(u8{255}, u8{0}, u8{51}, u8{7}), {1.f, 0.f, 0.2f}},
-      {OSP_TEXTURE_SRGBA, OSP_VEC4UC, of(u8{64}, u8{255}, u8{0}, u8{7}), {quarter_srgb, 1.f, 0.f}},
-      {OSP_TEXTURE_RGBA32F, OSP_VEC4F, of(0.5f, 0.25f, 1.f, 0.f), {0.5f, 0.25f, 1.f}},
+      {OSP_TEXTURE_RGBA8, OSP_VEC4UC, of(u8{255}, u8{0}, u8{51}, u8{255}), {1.f, 0.f, 0.2f}},
+      {OSP_TEXTURE_SRGBA, OSP_VEC4UC, of(u8{64}, u8{255}, u8{0}, u8{255}), {quarter_srgb, 1.f, 0.f}},
+      {OSP_TEXTURE_RGBA32F, OSP_VEC4F, of(0.5f, 0.25f, 1.f, 1.f), {0.5f, 0.25f, 1.f}},
       {OSP_TEXTURE_RGB8, OSP_VEC3UC, of(u8{0}, u8{51}, u8{255}), {0.f, 0.2f, 1.f}},
       {OSP_TEXTURE_SRGB, OSP_VEC3UC, of(u8{255}, u8{64}, u8{0}), {1.f, quarter_srgb, 0.f}},
       {OSP_TEXTURE_RGB32F, OSP_VEC3F, of(0.75f, 0.f, 0.5f), {0.75f, 0.f, 0.5f}},
       {OSP_TEXTURE_R8, OSP_UCHAR, of(u8{51}), {0.2f, 0.f, 0.f}},
       {OSP_TEXTURE_R32F, OSP_FLOAT, of(0.75f), {0.75f, 0.f, 0.f}},
       {OSP_TEXTURE_L8, OSP_UCHAR, of(u8{64}), {quarter_srgb, quarter_srgb, quarter_srgb}},
-      {OSP_TEXTURE_RA8, OSP_VEC2UC, of(u8{102}, u8{9}), {0.4f, 0.f, 0.f}},
-      {OSP_TEXTURE_LA8, OSP_VEC2UC, of(u8{64}, u8{9}), {quarter_srgb, quarter_srgb, quarter_srgb}},
-      {OSP_TEXTURE_RGBA16, OSP_VEC4US, of(u16{65535}, u16{0}, u16{13107}, u16{1}), {1.f, 0.f, 0.2f}},
+      {OSP_TEXTURE_RA8, OSP_VEC2UC, of(u8{102}, u8{255}), {0.4f, 0.f, 0.f}},
+      {OSP_TEXTURE_LA8, OSP_VEC2UC, of(u8{64}, u8{255}), {quarter_srgb, quarter_srgb, quarter_srgb}},
+      {OSP_TEXTURE_RGBA16, OSP_VEC4US, of(u16{65535}, u16{0}, u16{13107}, u16{65535}), {1.f, 0.f, 0.2f}},
       {OSP_TEXTURE_RGB16, OSP_VEC3US, of(u16{13107}, u16{65535}, u16{0}), {0.2f, 1.f, 0.f}},
-      {OSP_TEXTURE_RA16, OSP_VEC2US, of(u16{26214}, u16{1}), {0.4f, 0.f, 0.f}},
+      {OSP_TEXTURE_RA16, OSP_VEC2US, of(u16{26214}, u16{65535}), {0.4f, 0.f, 0.f}},
       {OSP_TEXTURE_R16, OSP_USHORT, of(u16{52428}), {0.8f, 0.f, 0.f}},
       {OSP_TEXTURE_RGBA16F, OSP_VEC4US, of(h25, h50, h75, h1), {0.25f, 0.5f, 0.75f}},
-      {OSP_TEXTURE_RGBA16F, OSP_VEC4H, of(h1, h75, h50, h25), {1.f, 0.75f, 0.5f}},
+      {OSP_TEXTURE_RGBA16F, OSP_VEC4H, of(h1, h75, h50, h1), {1.f, 0.75f, 0.5f}},
       {OSP_TEXTURE_RGB16F, OSP_VEC3US, of(h75, h25, h1), {0.75f, 0.25f, 1.f}},
       {OSP_TEXTURE_RGB16F, OSP_VEC3H, of(h50, h1, h25), {0.5f, 1.f, 0.25f}},
-      {OSP_TEXTURE_RA16F, OSP_VEC2US, of(h75, h25), {0.75f, 0.f, 0.f}},
+      {OSP_TEXTURE_RA16F, OSP_VEC2US, of(h75, h1), {0.75f, 0.f, 0.f}},
       {OSP_TEXTURE_RA16F, OSP_VEC2H, of(h25, h1), {0.25f, 0.f, 0.f}},
       {OSP_TEXTURE_R16F, OSP_USHORT, of(h50), {0.5f, 0.f, 0.f}},
       {OSP_TEXTURE_R16F, OSP_HALF, of(u16{0x0200}), {0x1p-15f, 0.f, 0.f}},  // subnormal: 512 * 2^-24
-      {OSP_TEXTURE_RA32F, OSP_VEC2F, of(0.25f, 0.5f), {0.25f, 0.f, 0.f}}};
+      {OSP_TEXTURE_RA32F, OSP_VEC2F, of(0.25f, 1.f), {0.25f, 0.f, 0.f}}};
   for (const Case& c : cases) {
     INFO("format " << static_cast<unsigned>(c.format) << " as data type " << static_cast<unsigned>(c.type));
     OSPTexture texture = new_texture(c.format, c.bytes.data(), c.type, 1, 1);

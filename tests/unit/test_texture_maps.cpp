@@ -421,17 +421,20 @@ TEST_CASE("texture maps: the alpha of map_kd and map_baseColor multiplies opacit
   obj.d = 0.8f;
   obj.map_kd = {grey(0.5f), {}, grey(0.25f)};
   Material storage;
-  const auto& o = std::get<ObjMaterial>(textured(Material(obj), {0.5f, 0.5f}, storage));
+  const Material kd_mapped(obj);
+  const auto& o = std::get<ObjMaterial>(textured(kd_mapped, {0.5f, 0.5f}, storage));
   CHECK(o.kd == splat(0.4f));
   CHECK(o.d == Approx(0.2f));
   PrincipledMaterial principled;
   principled.opacity = 0.8f;
   principled.map_base_color = {grey(1.f), {}, grey(0.5f)};
-  CHECK(std::get<PrincipledMaterial>(textured(Material(principled), {0.5f, 0.5f}, storage)).opacity == Approx(0.4f));
+  const Material base_color_mapped(principled);
+  CHECK(std::get<PrincipledMaterial>(textured(base_color_mapped, {0.5f, 0.5f}, storage)).opacity == Approx(0.4f));
   // Other maps' alpha is not opacity (OSPRay reads only these two).
   obj.map_kd.alpha = nullptr;
   obj.map_ks = {grey(1.f), {}, grey(0.f)};
-  CHECK(std::get<ObjMaterial>(textured(Material(obj), {0.5f, 0.5f}, storage)).d == Approx(0.8f));
+  const Material ks_mapped(obj);
+  CHECK(std::get<ObjMaterial>(textured(ks_mapped, {0.5f, 0.5f}, storage)).d == Approx(0.8f));
 }
 
 TEST_CASE("texture maps: where map_kd's alpha is 0.25 scivis and the path tracer show 0.75 of the background",
@@ -473,6 +476,7 @@ TEST_CASE("texture maps: where map_kd's alpha is 0.25 scivis and the path tracer
   // on each of 512 pixels give a standard deviation of 0.005 of it, checked to within 0.03.
   PathTracerParams path;
   path.materials = {material};
+  path.lights.clear();  // not the default ambient light
   path.background_color = background;
   const Frame traced = render(scene.world, path, camera, size, 1, 16);
   Vec3f sum_left = splat(0.f), sum_right = splat(0.f);
