@@ -183,19 +183,52 @@ TEST_CASE("image operations: the tonemapper maps the frame buffer's colour", "[c
 
   // What cannot work is named.
   CHECK(ospNewImageOperation("denoiser") == nullptr);
-  api.expect_error("unknown image operation type 'denoiser' (sciray supports: tonemapper)");
+  api.expect_error("unknown image operation type 'denoiser' (sciray supports: tonemapper, debug)");
   ospSetFloat(tonemapper, "contrast", -1.f);
   ospCommit(tonemapper);
   api.expect_error("ospCommit: tonemapper: 'contrast' must be positive");
+  // An uncommitted operation has its defaults, as in OSPRay (its parameters are unseen).
   OSPImageOperation uncommitted = ospNewImageOperation("tonemapper");
+  ospSetFloat(uncommitted, "exposure", 100.f);
   ospSetObjectAsData(fb, "imageOperation", OSP_IMAGE_OPERATION, uncommitted);
   ospCommit(fb);
-  api.expect_error("parameter 'imageOperation' element 0 (tonemapper image operation) has not been committed");
+  CHECK(api.messages.errors.empty());
+  const sciray::Vec3f by_default = sciray::Tonemapper{}(sciray::Vec3f{plain[0], plain[1], plain[2]});
+  CHECK(map_channel<float>(fb, OSP_FB_COLOR, 4)[0] == Approx(by_default.x).margin(1e-5));
   ospSetObject(fb, "imageOperation", scene.camera);
   ospCommit(fb);
   api.expect_error("parameter 'imageOperation' must be an OSPImageOperation, got OSPCamera");
   ospRelease(uncommitted);
   ospRelease(tonemapper);
+  ospRelease(fb);
+}
+
+TEST_CASE("image operations: debug sets red to 1 after the tonemapper, as OSPRay's", "[c_api][frame]") {
+  ApiFixture api;
+  SphereScene scene({0.f, 0.f, 0.f}, "perspective");
+  constexpr int size = 16;
+  OSPImageOperation tonemapper = ospNewImageOperation("tonemapper"), debug = ospNewImageOperation("debug");
+  ospCommit(tonemapper);
+  ospCommit(debug);
+  OSPFrameBuffer fb = ospNewFrameBuffer(size, size, OSP_FB_RGBA32F, OSP_FB_COLOR | OSP_FB_ACCUM);
+  ospRenderFrameBlocking(fb, scene.renderer, scene.camera, scene.world);
+  const auto plain = map_channel<float>(fb, OSP_FB_COLOR, 4 * size * size);
+  const OSPImageOperation both[] = {tonemapper, debug};
+  OSPData list = ospNewSharedData1D(both, OSP_IMAGE_OPERATION, 2);
+  ospSetObject(fb, "imageOperation", list);
+  ospCommit(fb);
+  const sciray::Tonemapper expected;
+  const auto marked = map_channel<float>(fb, OSP_FB_COLOR, 4 * size * size);
+  for (std::size_t p = 0; p < size * size; ++p) {
+    const sciray::Vec3f rgb = expected(sciray::Vec3f{plain[4 * p], plain[4 * p + 1], plain[4 * p + 2]});
+    REQUIRE(marked[4 * p] == 1.f);
+    REQUIRE(marked[4 * p + 1] == Approx(rgb.y).margin(1e-5));
+    REQUIRE(marked[4 * p + 3] == plain[4 * p + 3]);
+  }
+  CHECK(api.messages.errors.empty());
+  ospRelease(list);
+  ospRelease(tonemapper);
+  ospRelease(debug);
   ospRelease(fb);
 }
 

@@ -385,7 +385,7 @@ TEST_CASE("OSPRay 3.2's denoiser and vdb volume are absent, said so by name", "[
   // OSPDenoiserQuality is the denoiser's 'quality', OSPVolumeFormat a vdb volume's
   // 'node.format': the headers declare both, sciray has neither object.
   CHECK(ospNewImageOperation("denoiser") == nullptr);
-  api.expect_error("unknown image operation type 'denoiser' (sciray supports: tonemapper)");
+  api.expect_error("unknown image operation type 'denoiser' (sciray supports: tonemapper, debug)");
   CHECK(ospNewVolume("vdb") == nullptr);
   api.expect_error("unknown volume type 'vdb' (sciray supports: structuredRegular)");
   CHECK(ospLoadModule("denoiser") != OSP_NO_ERROR);

@@ -442,7 +442,7 @@ OSPFrameBuffer ospNewFrameBuffer(int width, int height, OSPFrameBufferFormat for
 OSPImageOperation ospNewImageOperation(const char* type) {
   return guarded("ospNewImageOperation", [&] {
     const std::string t = type_string(type);
-    if (t != "tonemapper") unknown_type("image operation", t, "tonemapper");
+    if (t != "tonemapper" && t != "debug") unknown_type("image operation", t, "tonemapper, debug");
     return handle_of<OSPImageOperation>(new ImageOperationObject(t));
   }, OSPImageOperation{});
 }

@@ -28,6 +28,10 @@ unsigned engine_channels(std::uint32_t channels) {
 }  // namespace
 
 void ImageOperationObject::on_commit() {
+  if (subtype() == "debug") {
+    operation_ = DebugMark{};
+    return;
+  }
   // The factory creates no other types.
   TonemapperParams p;
   p.exposure = get_float("exposure", p.exposure);
@@ -37,7 +41,7 @@ void ImageOperationObject::on_commit() {
   p.mid_out = get_float("midOut", p.mid_out);
   p.hdr_max = get_float("hdrMax", p.hdr_max);
   p.aces_color = get_bool("acesColor", p.aces_color);
-  tonemapper_ = Tonemapper(p);  // its errors name the tonemapper and the parameter
+  operation_ = Tonemapper(p);  // its errors name the tonemapper and the parameter
 }
 
 FrameBufferObject::FrameBufferObject(int width, int height, OSPFrameBufferFormat format, std::uint32_t channels)
@@ -45,15 +49,13 @@ FrameBufferObject::FrameBufferObject(int width, int height, OSPFrameBufferFormat
       channels_(channels) {}
 
 void FrameBufferObject::on_commit() {
-  std::vector<Tonemapper> operations;
+  std::vector<ImageOperation> operations;
   const auto add = [&](const Object* o, const std::string& what) {
     if (!o) throw Error(name() + ": parameter 'imageOperation'" + what + " is NULL");
     if (o->kind() != OSP_IMAGE_OPERATION)
       throw Error(name() + ": parameter 'imageOperation'" + what + " must be an OSPImageOperation, got " +
                   type_name(o->kind()));
-    if (!o->committed())
-      throw Error(name() + ": parameter 'imageOperation'" + what + " (" + o->name() + ") has not been committed");
-    operations.push_back(static_cast<const ImageOperationObject*>(o)->tonemapper());
+    operations.push_back(static_cast<const ImageOperationObject*>(o)->operation());
   };
   if (const Param* p = find("imageOperation"); p && p->object) {
     if (p->object->kind() == OSP_DATA) {

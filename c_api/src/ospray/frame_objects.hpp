@@ -15,17 +15,21 @@
 namespace sciray::ospray {
 
 /// OSPRay's `tonemapper` image operation (exposure, contrast, shoulder, midIn, midOut,
-/// hdrMax, acesColor); a frame buffer takes its parameters at the frame buffer's commit.
+/// hdrMax, acesColor) and its `debug` one (red set to 1); a frame buffer takes their
+/// parameters at the frame buffer's commit. Uncommitted, an operation has its defaults
+/// (OSPRay's test suite hands over a `debug` operation it never commits).
 class ImageOperationObject : public Object {
 public:
-  explicit ImageOperationObject(std::string type) : Object(OSP_IMAGE_OPERATION, std::move(type)) {}
-  const Tonemapper& tonemapper() const { return tonemapper_; }
+  explicit ImageOperationObject(const std::string& type)
+      : Object(OSP_IMAGE_OPERATION, type),
+        operation_(type == "debug" ? ImageOperation{DebugMark{}} : ImageOperation{Tonemapper{}}) {}
+  const ImageOperation& operation() const { return operation_; }
 
 protected:
   void on_commit() override;
 
 private:
-  Tonemapper tonemapper_;
+  ImageOperation operation_;
 };
 
 class FrameBufferObject : public Object {

@@ -181,7 +181,7 @@ public:
   /// The image operations applied, in order, to the colour output (not to the
   /// accumulation). Outputs already written are redone from the accumulation where
   /// there is one; otherwise the next frame shows the change.
-  void set_image_operations(std::vector<Tonemapper> operations) {
+  void set_image_operations(std::vector<ImageOperation> operations) {
     image_operations_ = std::move(operations);
     if (!has(channel_accum) || frames_ == 0) return;
     for (std::size_t p = 0; p < pixel_count(); ++p) {
@@ -193,7 +193,7 @@ public:
       output_color<simd::scalar>(&pixel, rgba);
     }
   }
-  const std::vector<Tonemapper>& image_operations() const { return image_operations_; }
+  const std::vector<ImageOperation>& image_operations() const { return image_operations_; }
 
   /// An estimate of the error left in the accumulated colour: the mean over pixels of
   /// the expected absolute luminance error of their average (tiles weighted by their
@@ -360,7 +360,7 @@ private:
     if (format_ == ColorFormat::none) return;
     if (!image_operations_.empty()) {
       Vec3<F> rgb{simd::load<Arch>(rgba[0]), simd::load<Arch>(rgba[1]), simd::load<Arch>(rgba[2])};
-      for (const Tonemapper& op : image_operations_) rgb = op(rgb);
+      for (const ImageOperation& op : image_operations_) rgb = std::visit([&](const auto& o) { return o(rgb); }, op);
       simd::store<Arch>(rgba[0], rgb.x);
       simd::store<Arch>(rgba[1], rgb.y);
       simd::store<Arch>(rgba[2], rgb.z);
@@ -410,7 +410,7 @@ private:
   std::uint32_t frames_ = 0;
   std::vector<std::uint32_t> tile_frames_;
   std::vector<float> tile_error_;
-  std::vector<Tonemapper> image_operations_;
+  std::vector<ImageOperation> image_operations_;
 
   std::vector<float> accum_;
   std::vector<float> odd_luminance_;  // sum over the second half's frames (in_second_half), for the estimate

@@ -10,12 +10,16 @@
 // mid point). The defaults fit the ACES 1.0 greyscale curve; with acesColor the curve
 // runs in ACES AP1 space (OSPRay's input and output matrices), otherwise per channel
 // in linear RGB. The result is clamped to [0, 1]; exposure scales the input first.
+//
+// `debug`, as OSPRay's: the red channel set to 1, a visible mark that frames pass the
+// image operations.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <numbers>
 #include <string>
 #include <type_traits>
+#include <variant>
 
 #include "sciray/error.hpp"
 #include "sciray/math/vec.hpp"
@@ -123,5 +127,16 @@ private:
   bool aces_;
   float a_ = 1.f, ad_ = 1.f, b_ = 1.f, c_ = 0.f;
 };
+
+/// OSPRay's `debug` image operation.
+struct DebugMark {
+  template <class T>
+  Vec3<T> operator()(const Vec3<T>& rgb) const {
+    return {T(1.f), rgb.y, rgb.z};
+  }
+};
+
+/// One of the image operations a frame buffer applies, in order, to the colour it outputs.
+using ImageOperation = std::variant<Tonemapper, DebugMark>;
 
 }  // namespace sciray
