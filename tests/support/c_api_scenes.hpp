@@ -168,6 +168,17 @@ inline void set_array(OSPObject o, const char* id, const void* values, OSPDataTy
   ospRelease(owned);
 }
 
+/// A committed mesh: one 20 x 20 quad at y = 0 centred on the origin, its normal up.
+inline OSPGeometry new_floor_mesh() {
+  OSPGeometry mesh = ospNewGeometry("mesh");
+  const float positions[] = {-10, 0, -10, 10, 0, -10, 10, 0, 10, -10, 0, 10};
+  const unsigned quads[] = {0, 3, 2, 1};  // the normal points up
+  set_array(mesh, "vertex.position", positions, OSP_VEC3F, 4);
+  set_array(mesh, "index", quads, OSP_VEC4UI, 1);
+  ospCommit(mesh);
+  return mesh;
+}
+
 /// A committed sphere geometry with the given centres (x,y,z each) and one radius.
 inline OSPGeometry new_spheres(const std::vector<float>& centers, float radius) {
   OSPGeometry g = ospNewGeometry("sphere");

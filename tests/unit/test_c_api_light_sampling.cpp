@@ -12,8 +12,11 @@
 #include <ospray/ospray_util.h>
 
 #include "support/api_fixture.hpp"
+#include "support/c_api_scenes.hpp"
 
 using sciray_test::ApiFixture;
+
+using sciray_test::new_floor_mesh;
 
 namespace {
 
@@ -25,7 +28,7 @@ Affine translate(float x, float y, float z) { return {1, 0, 0, 0, 1, 0, 0, 0, 1,
 /// orthographic camera with a shutter over [0, 1]: a pixel shows E / pi, E the
 /// irradiance at the origin averaged over the shutter.
 struct LitFloor {
-  OSPGeometry mesh = ospNewGeometry("mesh");
+  OSPGeometry mesh = new_floor_mesh();
   OSPMaterial material = ospNewMaterial("obj");
   OSPGeometricModel model = nullptr;
   OSPGroup group = ospNewGroup();
@@ -35,14 +38,6 @@ struct LitFloor {
   std::vector<OSPObject> owned;
 
   LitFloor() {
-    const float positions[] = {-10, 0, -10, 10, 0, -10, 10, 0, 10, -10, 0, 10};
-    const unsigned quads[] = {0, 3, 2, 1};  // the normal points up
-    OSPData position_data = ospNewSharedData(positions, OSP_VEC3F, 4), index_data = ospNewSharedData(quads, OSP_VEC4UI, 1);
-    ospSetObject(mesh, "vertex.position", position_data);
-    ospSetObject(mesh, "index", index_data);
-    ospCommit(mesh);
-    ospRelease(position_data);
-    ospRelease(index_data);
     ospSetVec3f(material, "kd", 1.f, 1.f, 1.f);
     ospCommit(material);
     model = ospNewGeometricModel(mesh);

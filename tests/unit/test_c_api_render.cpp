@@ -12,8 +12,11 @@
 #include <ospray/ospray_util.h>
 
 #include "support/api_fixture.hpp"
+#include "support/c_api_scenes.hpp"
 
 using sciray_test::ApiFixture;
+
+using sciray_test::new_floor_mesh;
 
 namespace {
 
@@ -22,7 +25,7 @@ constexpr float pi = std::numbers::pi_v<float>;
 /// A 20 x 20 floor quad at y = 0 (one geometric model, optional material), a light list,
 /// an orthographic camera looking straight down at the floor's centre.
 struct FloorScene {
-  OSPGeometry mesh = ospNewGeometry("mesh");
+  OSPGeometry mesh = new_floor_mesh();
   OSPGeometricModel model = nullptr;
   OSPGroup group = ospNewGroup();
   OSPInstance instance = nullptr;
@@ -31,14 +34,6 @@ struct FloorScene {
   std::vector<OSPLight> lights;
 
   explicit FloorScene(OSPMaterial material) {
-    const float positions[] = {-10, 0, -10, 10, 0, -10, 10, 0, 10, -10, 0, 10};
-    const unsigned quads[] = {0, 3, 2, 1};  // the normal points up
-    OSPData position_data = ospNewSharedData(positions, OSP_VEC3F, 4), index_data = ospNewSharedData(quads, OSP_VEC4UI, 1);
-    ospSetObject(mesh, "vertex.position", position_data);
-    ospSetObject(mesh, "index", index_data);
-    ospCommit(mesh);
-    ospRelease(position_data);
-    ospRelease(index_data);
     model = ospNewGeometricModel(mesh);
     if (material) ospSetObject(model, "material", material);
     ospCommit(model);
