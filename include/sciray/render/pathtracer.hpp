@@ -376,7 +376,9 @@ private:
     const float picked = light_pick_probability();
     for (std::size_t k = 0; k < light_count(); ++k)
       with_light(k, p.time, [&](const Light& light) {
-        if (depth == 0 && !std::visit([](const auto& l) { return l.visible; }, light)) return;
+        // As OSPRay: an invisible light is not seen along a straight path (camera rays and
+        // their straight transmissions through thinGlass and the like).
+        if (p.straight && !std::visit([](const auto& l) { return l.visible; }, light)) return;
         if (is_delta(light)) return;
         const LightEval e = eval(light, p.org, p.previous_normal, p.dir, t);
         if (!(e.pdf > 0.f) && !(std::max({e.radiance.x, e.radiance.y, e.radiance.z}) > 0.f)) return;
