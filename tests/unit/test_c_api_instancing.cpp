@@ -288,8 +288,9 @@ TEST_CASE("box: picks land on the analytic faces; bounds; colours; instanced box
 
 TEST_CASE("plane: picks land on the analytic plane; bounded planes; colours; instanced planes", "[c_api][plane]") {
   ApiFixture api;
-  // z = 2, and x + z = 4 (its normal not normalized) bounded to x in [1, 3].
-  const float planes[2][4] = {{0.f, 0.f, 1.f, -2.f}, {2.f, 0.f, 2.f, -8.f}};
+  // z = 2, and x + z = 4 (its normal not normalized) bounded to x in [1, 3]: OSPRay's
+  // coefficients mean a·x + b·y + c·z = d (measured against OSPRay 3.1's runtime).
+  const float planes[2][4] = {{0.f, 0.f, 1.f, 2.f}, {2.f, 0.f, 2.f, 8.f}};
   OSPGeometry g = ospNewGeometry("plane");
   set_array(g, "plane.coefficients", planes, OSP_VEC4F, 1);
   ospCommit(g);

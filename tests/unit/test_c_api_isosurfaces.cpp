@@ -280,7 +280,7 @@ struct SliceScene {
     ospCommit(texture);
     ospSetObject(material, "map_kd", texture);
     ospCommit(material);
-    const float coefficients[4] = {0.f, 0.f, 1.f, -0.5f};
+    const float coefficients[4] = {0.f, 0.f, 1.f, 0.5f};  // z = 0.5 (OSPRay's a·x + b·y + c·z = d)
     const float bounds[6] = {0.2f, 0.2f, 0.f, 0.8f, 0.8f, 1.f};
     set_array(plane, "plane.coefficients", coefficients, OSP_VEC4F, 1);
     set_array(plane, "plane.bounds", bounds, OSP_BOX3F, 1);

@@ -311,8 +311,8 @@ TEST_CASE("volume: clipping geometry cuts volumes", "[c_api][volume][clipping]")
   ApiFixture api;
   VolumeScene scene;
   scene.commit_constant(new_transfer_function({1.f, 1.f, 1.f}, {2.f}, 0.f, 1.f));
-  // The plane z = 0.5 clips z < 0.5: half the depth of sigma = 2.
-  const float plane[4] = {0.f, 0.f, 1.f, -0.5f};
+  // The plane z = 0.5 (OSPRay's a·x + b·y + c·z = d) clips z < 0.5: half the depth of sigma = 2.
+  const float plane[4] = {0.f, 0.f, 1.f, 0.5f};
   OSPGeometry g = ospNewGeometry("plane");
   set_array(g, "plane.coefficients", plane, OSP_VEC4F, 1);
   ospCommit(g);

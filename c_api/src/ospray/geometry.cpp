@@ -403,8 +403,10 @@ void Geometry::commit_planes() {
     throw Error(name() + ": required parameter 'plane.coefficients' (array of vec4f) is missing");
   const Data* bounds = get_data(*this, find("plane.bounds"), "plane.bounds", {OSP_BOX3F});
   auto data = std::make_shared<PlaneData>();
+  // OSPRay's (a, b, c, d) is the plane a·x + b·y + c·z = d (measured against OSPRay 3.1's
+  // runtime: (0, 0, 1, -0.4) lies at z = -0.4); sciray's Planes read a·x + b·y + c·z + d = 0.
   data->planes = coefficients->to_vector<Planes::Plane>([](const std::byte* p) {
-    return Planes::Plane{read_float(p), read_float(p + 4), read_float(p + 8), read_float(p + 12)};
+    return Planes::Plane{read_float(p), read_float(p + 4), read_float(p + 8), -read_float(p + 12)};
   });
   if (bounds) data->bounds = bounds->to_vector<Box3f>(read_box);
   const Planes check(data->planes, data->bounds);
