@@ -7,8 +7,8 @@
 # SHARED_DIR (default ../shared beside the checkout) can be set in the environment.
 # About 12 minutes on 2 cores for the 259 shared tests. Not part of CI: the suite's
 # binaries are a yardstick kept outside the project.
-# Prints the suite's lines, a breakdown of the failures, and last the suite's own
-# "N passed, M failed".
+# Prints the suite's lines, a breakdown of the failures (OUT_DIR/image-noise.tsv tells
+# noise from different images), and last the suite's own "N passed, M failed".
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -36,4 +36,8 @@ echo "failures by cause:"
 awk -F'\t' '$1 != "OK" {print ($1 == "FAIL" ? "image differs" : $3)}' "$results" | sed -E 's/[0-9]+/N/g' |
   cut -c1-120 | sort | uniq -c | sort -rn
 echo "of the failures, $non_grid are non-grid volume tests (unstructured, vdb, amr, particle)"
+# Image failures that are Monte Carlo noise (the images agree in 16x16-block means) or a
+# different image (see the script for the criterion).
+echo "image failures, noise or a different image:"
+python3 scripts/ospray-image-noise.py "$out" | tee "$out/image-noise.tsv" | tail -1
 echo "$summary"
