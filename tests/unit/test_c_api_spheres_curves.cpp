@@ -142,27 +142,6 @@ TEST_CASE("sphere: the three types, spheres, discs facing the ray and oriented d
   CHECK(api.messages.errors.empty());
 }
 
-TEST_CASE("sphere: a translucent disc covers as a flattened sphere does, both faces at once", "[c_api][sphere]") {
-  ApiFixture api;
-  // OSPRay 3.1's discs are spheres flattened: a ray crosses two faces at one point. Measured
-  // with its runtime (scivis, colour alpha 0.7): alpha 0.91 = 1 - 0.3^2 for spheres and for
-  // both disc types alike.
-  const float normal[3] = {0.3f, 0.2f, -1.f};
-  const float color[4] = {0.6f, 0.8f, 0.9f, 0.7f};
-  GeometryScene scene(new_spheres({0.f, 0.f, 0.f}, 1.f), true);
-  set_array(scene.geometry, "sphere.normal", normal, OSP_VEC3F, 1);
-  set_array(scene.model, "color", color, OSP_VEC4F, 1);
-  ospCommit(scene.model);
-  for (int type : {OSP_SPHERE, OSP_DISC, OSP_ORIENTED_DISC}) {
-    INFO("sphere type " << type);
-    ospSetInt(scene.geometry, "type", type);
-    ospCommit(scene.geometry);
-    const std::vector<float> image = scene.render(8, 8);
-    CHECK(image[4 * (4 * 8 + 4) + 3] == Approx(1.f - 0.3f * 0.3f).margin(1e-4));
-  }
-  CHECK(api.messages.errors.empty());
-}
-
 TEST_CASE("sphere: the sciray and embree intersectors render the same image on every ISA", "[c_api][sphere]") {
   ApiFixture api;
   std::vector<float> centers, radii, normals, colors;

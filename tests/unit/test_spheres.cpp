@@ -10,6 +10,7 @@
 #include <limits>
 #include <vector>
 
+#include "sciray/geometry/sphere_intersect.hpp"
 #include "sciray/io/frame_io.hpp"
 #include "sciray/shim/engine.hpp"
 #include "sciray/testing/image_compare.hpp"
@@ -98,6 +99,30 @@ TEST_CASE("both sphere intersectors on every ISA find the analytic nearest spher
       CHECK(worst_ulps <= 4);  // measured: 4 for both intersectors
     }
   }
+}
+
+TEST_CASE("a ray restarted at a reported sphere hit finds the far side, not the same hit", "[spheres]") {
+  // Past a clipped hit a ray is restarted at the distance reported, which the refinement
+  // step moved off the quadratic's root: the bounds must be tested on the refined roots,
+  // or about one ray in twenty finds the same near hit again and passes through.
+  const Vec3f center{0.3f, -0.2f, 0.1f};
+  const float radius = 0.7f;
+  int restarted = 0;
+  for (int i = 0; i < 4000; ++i) {
+    const float x = -0.6f + 1.2f * static_cast<float>(i % 63) / 62.f, y = -0.6f + 1.2f * static_cast<float>(i / 63) / 63.f;
+    Ray<float> ray{{x + center.x, y + center.y, -50.f - 0.37f * static_cast<float>(i % 7)}, {0.f, 0.f, 1.f}};
+    const PrimitiveHit<simd::scalar> near = intersect_sphere<simd::scalar>(ray, center, radius);
+    if (!near.hit) continue;
+    ray.tnear = near.t;
+    const PrimitiveHit<simd::scalar> far = intersect_sphere<simd::scalar>(ray, center, radius);
+    INFO("ray " << i);
+    REQUIRE(far.hit);
+    CHECK(far.t > near.t);
+    // The far side: the hit's offset from the centre points along the ray.
+    CHECK(dot(far.ng, ray.dir) > 0.f);
+    ++restarted;
+  }
+  CHECK(restarted > 2500);
 }
 
 TEST_CASE("discs face the ray; oriented discs face their normal", "[spheres]") {

@@ -25,7 +25,9 @@ struct PrimitiveHit {
 };
 
 /// The nearer root of |org + t dir − center| = radius inside (tnear, tfar); the far one
-/// when the ray starts inside the sphere or the near one is before tnear.
+/// when the ray starts inside the sphere or the near one is before tnear. The bounds are
+/// tested on the refined roots, the distances reported: a ray restarted at a reported
+/// hit (past a clipped one) finds the far side, not the same hit again.
 template <class Arch>
 PrimitiveHit<Arch> intersect_sphere(const Ray<simd::Float<Arch>>& ray, const Vec3<simd::Float<Arch>>& center,
                                     const simd::Float<Arch>& radius) {
@@ -40,24 +42,31 @@ PrimitiveHit<Arch> intersect_sphere(const Ray<simd::Float<Arch>>& ray, const Vec
   const F root = simd::sqrt(simd::max(discriminant, F(0.f)));
   const F q = b + simd::select(b >= F(0.f), root, -root);
   const F t0 = c / q, t1 = q / a;
-  const F t_near = simd::min(t0, t1), t_far = simd::max(t0, t1);
   const auto valid = discriminant >= F(0.f);
-  const auto near_ok = valid & (t_near > ray.tnear) & (t_near < ray.tfar);
-  const auto far_ok = valid & (t_far > ray.tnear) & (t_far < ray.tfar);
+  // One refinement step from an estimated root: the quadratic for the offset s along the
+  // ray has coefficients of the size of the radius, not of the distance, so its small
+  // root is accurate to the float precision of the hit point. This makes t correct to
+  // about an ulp however far the ray started (tests/stability).
+  const auto refine = [&](const F& t) {
+    const Vec3<F> g = f + ray.dir * t;  // from f, not org: no rounding at org's magnitude
+    const F bg = -dot(g, ray.dir);
+    const F cg = (dot(g, g) - radius * radius);
+    const F rg = simd::sqrt(simd::max(bg * bg - a * cg, F(0.f)));
+    const F qg = bg + simd::select(bg >= F(0.f), rg, -rg);
+    const F s = cg / qg;
+    return simd::select(simd::abs(s) < radius, t + s, t);  // no step where q vanishes (grazing)
+  };
+  const auto inside = [&](const F& t) { return valid & (t > ray.tnear) & (t < ray.tfar); };
   PrimitiveHit<Arch> hit;
-  hit.hit = near_ok | far_ok;
-  const F t = simd::select(near_ok, t_near, t_far);
-  // One refinement step from the estimated hit point: the quadratic for the offset s
-  // along the ray has coefficients of the size of the radius, not of the distance, so
-  // its small root is accurate to the float precision of the hit point. This makes t
-  // correct to about an ulp however far the ray started (tests/stability).
-  const Vec3<F> g = f + ray.dir * t;  // from f, not org: no rounding at org's magnitude
-  const F bg = -dot(g, ray.dir);
-  const F cg = (dot(g, g) - radius * radius);
-  const F rg = simd::sqrt(simd::max(bg * bg - a * cg, F(0.f)));
-  const F qg = bg + simd::select(bg >= F(0.f), rg, -rg);
-  const F s = cg / qg;
-  hit.t = simd::select(simd::abs(s) < radius, t + s, t);  // no step where q vanishes (grazing)
+  hit.t = refine(simd::min(t0, t1));
+  hit.hit = inside(hit.t);
+  // Only where the near side lies before tnear can the far one count.
+  if (const auto try_far = valid & (hit.t <= ray.tnear); simd::any(try_far)) {
+    const F t_far = refine(simd::max(t0, t1));
+    const auto far_ok = try_far & inside(t_far);
+    hit.t = simd::select(far_ok, t_far, hit.t);
+    hit.hit = hit.hit | far_ok;
+  }
   hit.ng = ray.org + ray.dir * hit.t - center;
   return hit;
 }

@@ -191,15 +191,7 @@ public:
     const float* colors = arrays_.colors.data();
     s.color = {simd::gather<Arch>(colors, at), simd::gather<Arch>(colors, at + I(1)),
                simd::gather<Arch>(colors, at + I(2))};
-    if (translucent_) {
-      s.alpha = simd::gather<Arch>(colors, at + I(3));
-      // OSPRay's discs are flattened spheres: a ray crosses both faces at one point, so a
-      // translucent colour covers twice (OSPRay 3.1, measured: alpha 0.7 shows 0.91).
-      if (type_ != SphereType::sphere) {
-        const simd::Float<Arch> through = simd::Float<Arch>(1.f) - s.alpha;
-        s.alpha = simd::Float<Arch>(1.f) - through * through;
-      }
-    }
+    if (translucent_) s.alpha = simd::gather<Arch>(colors, at + I(3));
     return s;
   }
 
