@@ -37,7 +37,10 @@ namespace {
 /// on the instance and is checked at the build.)
 std::string cannot_clip(const GeometricModel& model) {
   const Geometry& geometry = *model.geometry();
-  if (geometry.curves()) return "curve geometry cannot clip yet";
+  if (const auto& curves = geometry.curves();
+      curves && curves->type != CurveType::round && curves->type != CurveType::disjoint)
+    return "flat curves and ribbons (curve geometry of type OSP_FLAT or OSP_RIBBON) enclose nothing and cannot clip; "
+           "use OSP_ROUND";
   if (geometry.spheres() && geometry.sphere_type() != SphereType::sphere)
     return "discs (sphere geometry of type OSP_DISC or OSP_ORIENTED_DISC) enclose nothing and cannot clip; use "
            "OSP_SPHERE";
@@ -346,6 +349,27 @@ std::optional<OpenEdge> open_edge(const MeshData& mesh) {
   return std::nullopt;
 }
 
+/// The curves `curves` placed by `m`, which scales uniformly by `scale`: their control
+/// points, radii and (Hermite) tangents; the colours, which clipping does not read, are
+/// left behind.
+std::shared_ptr<const CurveData> placed_curves(const CurveData& curves, const Affine3f& m, float scale) {
+  auto placed = std::make_shared<CurveData>();
+  placed->indices = curves.indices;
+  placed->type = curves.type;
+  placed->basis = curves.basis;
+  const auto place = [&](const PaddedVector<float>& from, PaddedVector<float>& to, bool points) {
+    to.reserve(from.size());
+    for (std::size_t v = 0; 4 * v < from.size(); ++v) {
+      const Vec3f x{from[4 * v], from[4 * v + 1], from[4 * v + 2]};
+      const Vec3f y = points ? m.point(x) : m.vector(x);
+      to.insert(to.end(), {y.x, y.y, y.z, scale * from[4 * v + 3]});
+    }
+  };
+  place(curves.position_radius, placed->position_radius, true);
+  place(curves.tangents, placed->tangents, false);
+  return placed;
+}
+
 /// Adds the geometry of the clipping model `model`, placed by `m`, to `clipping`.
 void add_clipper(Clipping& clipping, const GeometricModel& model, const Affine3f& m) {
   if (const std::string why = cannot_clip(model); !why.empty()) throw Error(why);
@@ -361,6 +385,13 @@ void add_clipper(Clipping& clipping, const GeometricModel& model, const Affine3f
       const float radius = spheres->radii.empty() ? spheres->radius : spheres->radii[i];
       clipping.add_sphere(m.point({c[0], c[1], c[2]}), *scale * radius, invert);
     }
+  } else if (const auto& curves = geometry.curves()) {
+    const std::optional<float> scale = uniform_scale(m);
+    if (!scale)
+      throw Error(
+          "its instance's transform scales non-uniformly (a round tube becomes elliptic), which clipping "
+          "curves do not support yet");
+    clipping.add_curves(m.identity() ? curves : placed_curves(*curves, m, *scale), invert);
   } else if (const auto& boxes = geometry.boxes()) {
     const bool analytic = maps_axes_to_axes(m);
     for (const Box3f& box : boxes->boxes)
