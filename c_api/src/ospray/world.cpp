@@ -11,21 +11,25 @@ namespace sciray::ospray {
 
 namespace {
 
-/// The slices of `model`: its planes coloured by its material's volume texture, times
-/// `colors` (the model's colours times kd, or kd alone), sampling the texture's volume
-/// and transfer function as currently committed.
-VolumeSlice model_slice(const GeometricModel& model, const PlaneData& data, std::vector<float> colors) {
+/// The volume texture of `model`'s material (its `map_kd`): its volume and transfer
+/// function as currently committed, placed by the material's `map_kd.transform`.
+std::shared_ptr<const VolumeTexture> model_volume_texture(const GeometricModel& model) {
   const TextureObject& texture = *model.volume_texture();
   const TransferFunction& tf = *texture.transfer_function()->transfer_function();
   return std::visit(
-      [&](const auto& v) -> VolumeSlice {
+      [&](const auto& v) -> std::shared_ptr<const VolumeTexture> {
         if constexpr (std::is_same_v<std::decay_t<decltype(v)>, std::monostate>)
           throw Error("volume texture: its volume has not been committed");
         else
-          return VolumeSlice(data.planes, data.bounds, v, tf, std::move(colors),
-                             model.material()->volume_map_transform());
+          return std::make_shared<const VolumeTexture>(v, tf, model.material()->volume_map_transform());
       },
       texture.sampled_volume()->volume());
+}
+
+/// The slices of `model`: its planes coloured by its material's volume texture, times
+/// `colors` (the model's colours times kd, or kd alone).
+VolumeSlice model_slice(const GeometricModel& model, const PlaneData& data, std::vector<float> colors) {
+  return VolumeSlice(data.planes, data.bounds, *model_volume_texture(model), std::move(colors));
 }
 
 }  // namespace
@@ -214,7 +218,8 @@ Subdivision model_subdivision(const GeometricModel& model) {
 
 /// The spheres of `model`. They read the geometry's arrays in place; only the colours
 /// (the model's per-sphere colours times kd, or kd alone) are new, and `keep_alive` holds
-/// them and the geometry's data.
+/// them and the geometry's data. A volume texture as the material's `map_kd` colours them
+/// too.
 Spheres model_spheres(const GeometricModel& model, std::vector<std::shared_ptr<const void>>& keep_alive) {
   const Geometry& geometry = *model.geometry();
   const SphereData& d = *geometry.spheres();
@@ -237,6 +242,7 @@ Spheres model_spheres(const GeometricModel& model, std::vector<std::shared_ptr<c
   }
   Spheres spheres = Spheres::shared(a);
   spheres.set_type(geometry.sphere_type()).set_intersector(geometry.sphere_intersector());
+  if (model.volume_texture()) spheres.set_volume_texture(model_volume_texture(model));
   return spheres;
 }
 
