@@ -254,6 +254,39 @@ TEST_CASE("clipping: a closed mesh clips its inside; meshes must be closed, at m
   ospRelease(model);
 }
 
+TEST_CASE("clipping: a round curve in a turned and scaled and moved instance clips the inside of its tube",
+          "[c_api][clipping][curves]") {
+  ApiFixture api;
+  ClipScene scene;
+  // A tube of radius 0.15 from (-0.25, 0, 0) to (0.25, 0, 0) (OSPRay's constant-radius
+  // form), turned 90 degrees about z, scaled by 2 and moved to (0.2, 0.1, -1): the tube
+  // of radius 0.3 from (0.2, -0.4, -1) to (0.2, 0.6, -1) through the front face, which
+  // it cuts in a stadium.
+  const float position[6] = {-0.25f, 0.f, 0.f, 0.25f, 0.f, 0.f};
+  const std::uint32_t index = 0;
+  OSPGeometry g = ospNewGeometry("curve");
+  set_array(g, "vertex.position", position, OSP_VEC3F, 2);
+  set_array(g, "index", &index, OSP_UINT, 1);
+  ospSetFloat(g, "radius", 0.15f);
+  ospCommit(g);
+  OSPGeometricModel tube = new_model(g);
+  scene.clip({tube}, rotate_then_move(2, 90.f, 0.2f, 0.1f, -1.f, 2.f));
+  const auto stadium = [](float x, float y) {
+    const float along = std::clamp(y, -0.4f, 0.6f);
+    return disc_depth(x, y, 0.2f, along, 0.3f, 6.f, 4.f);
+  };
+  int checked = 0;
+  CHECK(wrong_depths(scene, stadium, &checked) == 0);
+  CHECK(checked > 64 * 64 / 3);
+  scene.expect_cube(0.2f, 0.55f, 1.f);
+  scene.expect_cube(0.2f, 0.85f, 1.f);  // in the end's half disc
+  scene.expect_cube(0.2f, 0.95f, -1.f);
+  scene.expect_cube(0.45f, 0.f, 1.f);
+  scene.expect_cube(0.55f, 0.f, -1.f);
+  ospRelease(tube);
+  CHECK(api.messages.errors.empty());
+}
+
 TEST_CASE("clipping: what cannot clip is named through the error callback", "[c_api][clipping][errors]") {
   ApiFixture api;
   ClipScene scene;
@@ -262,11 +295,24 @@ TEST_CASE("clipping: what cannot clip is named through the error callback", "[c_
   scene.expect_cube(0.f, 0.f, 1.f);
   CHECK(api.messages.errors.empty());
 
-  // Curves: at the group's commit, which fails and leaves the group clipping with the ball.
-  OSPGeometricModel curve = new_model(new_curves({0, 0, 0, 0.1f, 1, 0, 0, 0.1f}, {0}, OSP_ROUND, OSP_LINEAR));
+  // Flat curves: at the group's commit, which fails and leaves the group clipping with
+  // the ball.
+  OSPGeometricModel curve = new_model(new_curves({0, 0, 0, 0.1f, 1, 0, 0, 0.1f}, {0}, OSP_FLAT, OSP_LINEAR));
   set_clipping(scene.clip_group, {curve});
-  api.expect_error("ospCommit: group: parameter 'clippingGeometry' element 0: curve geometry cannot clip yet");
+  api.expect_error("ospCommit: group: parameter 'clippingGeometry' element 0: flat curves and ribbons (curve geometry "
+                   "of type OSP_FLAT or OSP_RIBBON) enclose nothing and cannot clip; use OSP_ROUND");
   scene.expect_cube(0.f, 0.f, 1.f);
+
+  // Round curves in an instance that scales non-uniformly: at the world's build.
+  OSPGeometricModel tube = new_model(new_curves({0, 0, 0, 0.1f, 1, 0, 0, 0.1f}, {0}, OSP_ROUND, OSP_LINEAR));
+  scene.clip({tube}, scale_then_move(1, 2, 1, 0, 0, 0));
+  const OSPPickResult stretched = scene.pick(scene.world, {0.f, 0.f, -5.f});
+  CHECK(stretched.hasHit == 0);
+  api.expect_error("ospPick: world: the group of instance 1, parameter 'clippingGeometry' element 0 (curve geometry): "
+                   "its instance's transform scales non-uniformly (a round tube becomes elliptic), which clipping "
+                   "curves do not support yet");
+  scene.clip({ball});
+  ospRelease(tube);
 
   // Bounded planes: at the group's commit, and at the world's build when the plane was
   // given bounds after the group was committed.

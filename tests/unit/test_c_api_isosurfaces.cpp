@@ -417,6 +417,58 @@ TEST_CASE("slice: a volume texture as map_kd colours a plane by the volume's tra
   CHECK(api.messages.errors.empty());
 }
 
+TEST_CASE("volume texture: a sphere shows the transfer function at its hit points and nothing outside the volume",
+          "[c_api][volume_texture][render]") {
+  // The sphere of radius 0.3 about (0.5, 0.5, 0.5) in f = x + 2y + 3z on [0, 1]³, seen
+  // down +z, textured with map_kd.transform moving its points by -0.35 in z: the front
+  // points nearer than z = 0.35 sample outside the volume, where OSPRay's volume texture
+  // gives colour and opacity 0, so the inside of the back half shows there.
+  ApiFixture api;
+  SliceScene scene;
+  OSPGeometry sphere = new_spheres({0.5f, 0.5f, 0.5f}, 0.3f);
+  OSPGeometricModel model = ospNewGeometricModel(sphere);
+  const float move[12] = {1.f, 0.f, 0.f, 0.f, 1.f, 0.f, 0.f, 0.f, 1.f, 0.f, 0.f, -0.35f};
+  ospSetParam(scene.material, "map_kd.transform", OSP_AFFINE3F, move);
+  ospCommit(scene.material);
+  ospSetObject(model, "material", scene.material);
+  ospCommit(model);
+  OSPGroup group = new_group({model});
+  OSPInstance instance = new_instance(group);
+  OSPWorld world = new_world({instance});
+  constexpr int size = SliceScene::size;
+  OSPFrameBuffer fb = ospNewFrameBuffer(size, size, OSP_FB_RGBA32F, OSP_FB_COLOR);
+  ospRenderFrameBlocking(fb, scene.renderer, scene.camera, world);
+  const auto* image = static_cast<const float*>(ospMapFrameBuffer(fb, OSP_FB_COLOR));
+  int front = 0, back = 0, wrong = 0;
+  for (int j = 0; j < size; ++j)
+    for (int i = 0; i < size; ++i) {
+      const float x = 1.f - (i + 0.5f) / size, y = (j + 0.5f) / size;  // the camera's right is −x
+      const float* p = image + 4 * (j * size + i);
+      const float d2 = (x - 0.5f) * (x - 0.5f) + (y - 0.5f) * (y - 0.5f);
+      if (d2 > 0.09f * 1.05f) {
+        wrong += p[3] != 0.f;
+        continue;
+      }
+      const float half = std::sqrt(std::max(0.09f - d2, 0.f)), near = 0.5f - half - 0.35f;
+      if (d2 > 0.09f * 0.95f || std::abs(near) < 1e-3f) continue;  // an edge
+      const float z = near >= 0.f ? near : 0.5f + half - 0.35f;
+      ++(near >= 0.f ? front : back);
+      const std::array<float, 3> want = ramp(x + 2 * y + 3 * z);
+      const bool ok = p[3] == 1.f && std::abs(p[0] - want[0]) < 1e-4f && std::abs(p[1] - want[1]) < 1e-4f &&
+                      std::abs(p[2] - want[2]) < 1e-4f;
+      if (!ok && wrong < 3)
+        UNSCOPED_INFO("x = " << x << ", y = " << y << ": got (" << p[0] << ", " << p[1] << ", " << p[2] << ", "
+                             << p[3] << "), want (" << want[0] << ", " << want[1] << ", " << want[2] << ", 1)");
+      wrong += !ok;
+    }
+  ospUnmapFrameBuffer(image, fb);
+  CHECK(wrong == 0);
+  CHECK(front > 50);
+  CHECK(back > 50);
+  for (OSPObject o : std::initializer_list<OSPObject>{fb, sphere, model, group, instance, world}) ospRelease(o);
+  CHECK(api.messages.errors.empty());
+}
+
 TEST_CASE("slice: volume textures' bad input is named through the error callback", "[c_api][slice][errors]") {
   ApiFixture api;
   SliceScene scene;
@@ -459,18 +511,21 @@ TEST_CASE("slice: volume textures' bad input is named through the error callback
   ospCommit(material);
   CHECK(api.messages.errors.empty());
 
-  // A volume texture colours planes only, yet.
+  // A volume texture colours planes and spheres only, yet; not discs.
   OSPGeometry mesh = new_cube_mesh({0.f, 0.f, 0.f}, {1.f, 1.f, 1.f});
   OSPGeometricModel mesh_model = ospNewGeometricModel(mesh);
   ospSetObject(mesh_model, "material", material);
   ospCommit(mesh_model);
-  api.expect_error("ospCommit: geometric model: its material's 'map_kd' (a volume texture) is not supported yet on mesh "
-               "geometry; volume textures colour plane geometry only (slices)");
+  api.expect_error("ospCommit: geometric model: its material's 'map_kd' (a volume texture) is not supported yet on "
+                   "mesh geometry; volume textures colour plane geometry (slices) and spheres only");
   OSPGeometry spheres = new_spheres({0.f, 0.f, 0.f}, 1.f);
+  ospSetInt(spheres, "type", OSP_DISC);
+  ospCommit(spheres);
   OSPGeometricModel sphere_model = ospNewGeometricModel(spheres);
   ospSetObject(sphere_model, "material", material);
   ospCommit(sphere_model);
-  api.expect_error("geometric model: its material's 'map_kd' (a volume texture) is not supported yet on sphere geometry");
+  api.expect_error("geometric model: its material's 'map_kd' (a volume texture) colours spheres of type OSP_SPHERE "
+                   "only, not discs");
 
   // A texture given to the material of a committed mesh model is refused by the world.
   OSPMaterial plain = ospNewMaterial("obj");

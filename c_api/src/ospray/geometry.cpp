@@ -418,9 +418,12 @@ void Geometry::commit_planes() {
 
 std::string cannot_colour(const Geometry& geometry, const Material* material) {
   if (!material) return {};
-  if (material->volume_map_kd() && !geometry.planes())
+  if (!material->volume_map_kd()) return {};
+  if (geometry.spheres() && geometry.sphere_type() != SphereType::sphere)
+    return "its material's 'map_kd' (a volume texture) colours spheres of type OSP_SPHERE only, not discs";
+  if (!geometry.planes() && !geometry.spheres())
     return "its material's 'map_kd' (a volume texture) is not supported yet on " + geometry.subtype() +
-           " geometry; volume textures colour plane geometry only (slices)";
+           " geometry; volume textures colour plane geometry (slices) and spheres only";
   return {};
 }
 

@@ -11,21 +11,25 @@ namespace sciray::ospray {
 
 namespace {
 
-/// The slices of `model`: its planes coloured by its material's volume texture, times
-/// `colors` (the model's colours times kd, or kd alone), sampling the texture's volume
-/// and transfer function as currently committed.
-VolumeSlice model_slice(const GeometricModel& model, const PlaneData& data, std::vector<float> colors) {
+/// The volume texture of `model`'s material (its `map_kd`): its volume and transfer
+/// function as currently committed, placed by the material's `map_kd.transform`.
+std::shared_ptr<const VolumeTexture> model_volume_texture(const GeometricModel& model) {
   const TextureObject& texture = *model.volume_texture();
   const TransferFunction& tf = *texture.transfer_function()->transfer_function();
   return std::visit(
-      [&](const auto& v) -> VolumeSlice {
+      [&](const auto& v) -> std::shared_ptr<const VolumeTexture> {
         if constexpr (std::is_same_v<std::decay_t<decltype(v)>, std::monostate>)
           throw Error("volume texture: its volume has not been committed");
         else
-          return VolumeSlice(data.planes, data.bounds, v, tf, std::move(colors),
-                             model.material()->volume_map_transform());
+          return std::make_shared<const VolumeTexture>(v, tf, model.material()->volume_map_transform());
       },
       texture.sampled_volume()->volume());
+}
+
+/// The slices of `model`: its planes coloured by its material's volume texture, times
+/// `colors` (the model's colours times kd, or kd alone).
+VolumeSlice model_slice(const GeometricModel& model, const PlaneData& data, std::vector<float> colors) {
+  return VolumeSlice(data.planes, data.bounds, *model_volume_texture(model), std::move(colors));
 }
 
 }  // namespace
@@ -37,7 +41,10 @@ namespace {
 /// on the instance and is checked at the build.)
 std::string cannot_clip(const GeometricModel& model) {
   const Geometry& geometry = *model.geometry();
-  if (geometry.curves()) return "curve geometry cannot clip yet";
+  if (const auto& curves = geometry.curves();
+      curves && curves->type != CurveType::round && curves->type != CurveType::disjoint)
+    return "flat curves and ribbons (curve geometry of type OSP_FLAT or OSP_RIBBON) enclose nothing and cannot clip; "
+           "use OSP_ROUND";
   if (geometry.spheres() && geometry.sphere_type() != SphereType::sphere)
     return "discs (sphere geometry of type OSP_DISC or OSP_ORIENTED_DISC) enclose nothing and cannot clip; use "
            "OSP_SPHERE";
@@ -211,7 +218,8 @@ Subdivision model_subdivision(const GeometricModel& model) {
 
 /// The spheres of `model`. They read the geometry's arrays in place; only the colours
 /// (the model's per-sphere colours times kd, or kd alone) are new, and `keep_alive` holds
-/// them and the geometry's data.
+/// them and the geometry's data. A volume texture as the material's `map_kd` colours them
+/// too.
 Spheres model_spheres(const GeometricModel& model, std::vector<std::shared_ptr<const void>>& keep_alive) {
   const Geometry& geometry = *model.geometry();
   const SphereData& d = *geometry.spheres();
@@ -234,6 +242,7 @@ Spheres model_spheres(const GeometricModel& model, std::vector<std::shared_ptr<c
   }
   Spheres spheres = Spheres::shared(a);
   spheres.set_type(geometry.sphere_type()).set_intersector(geometry.sphere_intersector());
+  if (model.volume_texture()) spheres.set_volume_texture(model_volume_texture(model));
   return spheres;
 }
 
@@ -346,6 +355,27 @@ std::optional<OpenEdge> open_edge(const MeshData& mesh) {
   return std::nullopt;
 }
 
+/// The curves `curves` placed by `m`, which scales uniformly by `scale`: their control
+/// points, radii and (Hermite) tangents; the colours, which clipping does not read, are
+/// left behind.
+std::shared_ptr<const CurveData> placed_curves(const CurveData& curves, const Affine3f& m, float scale) {
+  auto placed = std::make_shared<CurveData>();
+  placed->indices = curves.indices;
+  placed->type = curves.type;
+  placed->basis = curves.basis;
+  const auto place = [&](const PaddedVector<float>& from, PaddedVector<float>& to, bool points) {
+    to.reserve(from.size());
+    for (std::size_t v = 0; 4 * v < from.size(); ++v) {
+      const Vec3f x{from[4 * v], from[4 * v + 1], from[4 * v + 2]};
+      const Vec3f y = points ? m.point(x) : m.vector(x);
+      to.insert(to.end(), {y.x, y.y, y.z, scale * from[4 * v + 3]});
+    }
+  };
+  place(curves.position_radius, placed->position_radius, true);
+  place(curves.tangents, placed->tangents, false);
+  return placed;
+}
+
 /// Adds the geometry of the clipping model `model`, placed by `m`, to `clipping`.
 void add_clipper(Clipping& clipping, const GeometricModel& model, const Affine3f& m) {
   if (const std::string why = cannot_clip(model); !why.empty()) throw Error(why);
@@ -361,6 +391,13 @@ void add_clipper(Clipping& clipping, const GeometricModel& model, const Affine3f
       const float radius = spheres->radii.empty() ? spheres->radius : spheres->radii[i];
       clipping.add_sphere(m.point({c[0], c[1], c[2]}), *scale * radius, invert);
     }
+  } else if (const auto& curves = geometry.curves()) {
+    const std::optional<float> scale = uniform_scale(m);
+    if (!scale)
+      throw Error(
+          "its instance's transform scales non-uniformly (a round tube becomes elliptic), which clipping "
+          "curves do not support yet");
+    clipping.add_curves(m.identity() ? curves : placed_curves(*curves, m, *scale), invert);
   } else if (const auto& boxes = geometry.boxes()) {
     const bool analytic = maps_axes_to_axes(m);
     for (const Box3f& box : boxes->boxes)

@@ -13,9 +13,10 @@
 // is sampled, as OSPRay's volume texture samples at the local position. No renderer, hit
 // or surface-sample change is needed, and every renderer shades slices.
 //
-// The volume's voxel type and layout are erased behind a sampling function, so one
-// VolumeSlice type serves every StructuredRegular. Samples outside the volume take the
-// value at its border (StructuredRegular clamps); opacity is not used (an opaque plane).
+// The volume is a VolumeTexture (one type for every StructuredRegular). Unlike OSPRay's
+// volume texture, which shows nothing beyond the volume's bounds, samples outside the
+// volume take the value at its border (StructuredRegular clamps), and opacity is not used
+// (an opaque plane).
 #include <cmath>
 #include <cstdint>
 #include <memory>
@@ -30,42 +31,43 @@
 #include "sciray/math/affine.hpp"
 #include "sciray/math/box.hpp"
 #include "sciray/volume/transfer_function.hpp"
+#include "sciray/volume/volume_texture.hpp"
 
 namespace sciray {
 
 class VolumeSlice {
 public:
   /// `planes` and `bounds` (empty, or one box per plane) as for Planes; `colors`: r,g,b,a
-  /// per plane multiplying the transfer function's colour (a model's colours times its
-  /// material's kd), or empty. `texture_transform` maps points of the planes to where the
-  /// volume is sampled (OSPRay's affine3f `map_kd.transform` of a volume texture).
-  /// Validates the planes ("plane: ..." messages).
-  template <class Volume>
-  VolumeSlice(std::vector<Planes::Plane> planes, std::vector<Box3f> bounds, std::shared_ptr<const Volume> volume,
-              TransferFunction transfer_function, std::vector<float> colors = {}, Affine3f texture_transform = {})
+  /// per plane multiplying the texture's colour (a model's colours times its material's
+  /// kd), or empty. Validates the planes ("plane: ..." messages).
+  VolumeSlice(std::vector<Planes::Plane> planes, std::vector<Box3f> bounds, VolumeTexture texture,
+              std::vector<float> colors = {})
       : planes_(planes, std::move(bounds), std::move(colors)) {
-    if (!volume) throw Error("slice: the volume is missing");
     planes_.validate();
-    auto data = std::make_shared<Data>(Data{volume, nullptr, std::move(transfer_function), {}, texture_transform});
-    data->sample = [](const void* v, const Vec3f& p) {
-      return static_cast<const Volume*>(v)->template sample<simd::scalar>(p);
-    };
+    auto data = std::make_shared<Data>(Data{std::move(texture), {}});
     data->frames.reserve(planes.size());
     for (std::size_t i = 0; i < planes.size(); ++i)
       data->frames.push_back(frame_of(planes[i], planes_.primitive_bounds(static_cast<std::uint32_t>(i))));
     data_ = std::move(data);
   }
 
+  /// The texture of `volume` through `transfer_function`; `texture_transform` maps points
+  /// of the planes to where the volume is sampled (OSPRay's affine3f `map_kd.transform`).
+  template <class Volume>
+  VolumeSlice(std::vector<Planes::Plane> planes, std::vector<Box3f> bounds, std::shared_ptr<const Volume> volume,
+              TransferFunction transfer_function, std::vector<float> colors = {}, Affine3f texture_transform = {})
+      : VolumeSlice(std::move(planes), std::move(bounds),
+                    texture_of(std::move(volume), std::move(transfer_function), texture_transform),
+                    std::move(colors)) {}
+
   std::size_t count() const { return planes_.count(); }
   std::size_t owned_bytes() const {
-    const TransferFunction& tf = data_->tf;
-    return planes_.owned_bytes() + data_->frames.size() * sizeof(Frame) +
-           (tf.colors().size() * 6 + tf.opacities().size() * 2) * sizeof(float);
+    return planes_.owned_bytes() + data_->frames.size() * sizeof(Frame) + data_->texture.owned_bytes();
   }
   void validate() const { planes_.validate(); }
   Box3f bounds() const { return planes_.bounds(); }
   Box3f primitive_bounds(std::uint32_t i) const { return planes_.primitive_bounds(i); }
-  const TransferFunction& transfer_function() const { return data_->tf; }
+  const TransferFunction& transfer_function() const { return data_->texture.transfer_function(); }
 
   template <class Arch>
   RTCGeometry create_embree_geometry(const accel::Device& device) const {
@@ -97,15 +99,22 @@ public:
       if (!simd::lane(lanes, i)) continue;
       const Frame& f = data_->frames[static_cast<std::size_t>(simd::lane(hit.prim_id, i))];
       const Vec3f p = f.origin + f.e1 * simd::lane(hit.u, i) + f.e2 * simd::lane(hit.v, i);
-      values[i] = data_->sample(data_->volume.get(), data_->texture_transform.point(p));
+      values[i] = data_->texture.value(p);
     }
-    const Vec3<F> color = data_->tf.template color<Arch>(simd::load<Arch>(values));
+    const Vec3<F> color = data_->texture.transfer_function().template color<Arch>(simd::load<Arch>(values));
     s.color = select(s.has_color, s.color * color, color);
     s.has_color = lanes;
     return s;
   }
 
 private:
+  template <class Volume>
+  static VolumeTexture texture_of(std::shared_ptr<const Volume> volume, TransferFunction tf,
+                                  const Affine3f& transform) {
+    if (!volume) throw Error("slice: the volume is missing");
+    return VolumeTexture(std::move(volume), std::move(tf), transform);
+  }
+
   /// A point of the plane and an orthonormal basis of its directions.
   struct Frame {
     Vec3f origin, e1, e2;
@@ -130,11 +139,8 @@ private:
   }
 
   struct Data {
-    std::shared_ptr<const void> volume;
-    float (*sample)(const void*, const Vec3f&);
-    TransferFunction tf;
+    VolumeTexture texture;
     std::vector<Frame> frames;
-    Affine3f texture_transform;
   };
 
   Planes planes_;

@@ -6,6 +6,9 @@
 //    user geometry, reading the caller's arrays in place.
 // Both are measured in bench/ (docs/performance.md); `sciray` is the default there.
 // OSPRay's `type`: spheres, discs facing the ray, or discs oriented by `sphere.normal`.
+// A volume texture (OSPRay's `volume` texture as an obj `map_kd`) colours spheres by the
+// volume's value at each hit point: centre + radius · the unit geometric normal, in the
+// spheres' own space (the hit carries no position; a sphere's normal tells it).
 #include <cmath>
 #include <cstdint>
 #include <memory>
@@ -19,6 +22,7 @@
 #include "sciray/geometry/sphere_intersect.hpp"
 #include "sciray/geometry/surface.hpp"
 #include "sciray/math/box.hpp"
+#include "sciray/volume/volume_texture.hpp"
 
 namespace sciray {
 
@@ -72,8 +76,15 @@ public:
     return spheres;
   }
 
-  /// Whether a colour has alpha below 1.
-  bool translucent_colors() const { return translucent_; }
+  /// Whether a colour has alpha below 1 (a volume texture's may be: it is 0 beyond the
+  /// volume).
+  bool translucent_colors() const { return translucent_ || volume_texture_; }
+
+  /// Colours the spheres by `texture` at their hit points, times their own colours.
+  Spheres& set_volume_texture(std::shared_ptr<const VolumeTexture> texture) {
+    return volume_texture_ = std::move(texture), *this;
+  }
+  const std::shared_ptr<const VolumeTexture>& volume_texture() const { return volume_texture_; }
 
   Spheres& set_type(SphereType type) { return type_ = type, *this; }
   Spheres& set_intersector(SphereIntersector intersector) { return intersector_ = intersector, *this; }
@@ -89,6 +100,8 @@ public:
   void validate() const {
     const auto& a = arrays_;
     if (a.positions.empty()) throw Error("sphere: 'sphere.position' is missing or empty");
+    if (volume_texture_ && type_ != SphereType::sphere)
+      throw Error("sphere: a volume texture colours spheres only, not discs (a disc's hit does not tell its point)");
     check_array("sphere.position", a.positions, count(), 3);
     if (a.radii.empty()) {
       if (!(a.radius > 0.f) || !std::isfinite(a.radius))
@@ -185,17 +198,37 @@ public:
     s.epsilon = radius * simd::Float<Arch>(0x1.fp-21f);
     if (arrays_.colors.empty()) {
       s.has_color = simd::Mask<Arch>(false);
-      return s;
+    } else {
+      const I at = prim * I(static_cast<std::int32_t>(arrays_.colors.byte_stride / sizeof(float)));
+      const float* colors = arrays_.colors.data();
+      s.color = {simd::gather<Arch>(colors, at), simd::gather<Arch>(colors, at + I(1)),
+                 simd::gather<Arch>(colors, at + I(2))};
+      if (translucent_) s.alpha = simd::gather<Arch>(colors, at + I(3));
     }
-    const I at = prim * I(static_cast<std::int32_t>(arrays_.colors.byte_stride / sizeof(float)));
-    const float* colors = arrays_.colors.data();
-    s.color = {simd::gather<Arch>(colors, at), simd::gather<Arch>(colors, at + I(1)),
-               simd::gather<Arch>(colors, at + I(2))};
-    if (translucent_) s.alpha = simd::gather<Arch>(colors, at + I(3));
+    if (volume_texture_) apply_volume_texture<Arch>(hit, lanes, prim, radius, s);
     return s;
   }
 
 private:
+  /// Multiplies the texture's colour and opacity at each lane's hit point into `s`.
+  template <class Arch>
+  void apply_volume_texture(const accel::Hit<Arch>& hit, const simd::Mask<Arch>& lanes, const simd::Int<Arch>& prim,
+                            const simd::Float<Arch>& radius, SurfaceSample<Arch>& s) const {
+    using F = simd::Float<Arch>;
+    using I = simd::Int<Arch>;
+    const I at = prim * I(static_cast<std::int32_t>(arrays_.positions.byte_stride / sizeof(float)));
+    const float* positions = arrays_.positions.data();
+    const Vec3<F> centre{simd::gather<Arch>(positions, at), simd::gather<Arch>(positions, at + I(1)),
+                         simd::gather<Arch>(positions, at + I(2))};
+    const Vec3<F> p = centre + normalize(hit.ng) * radius;
+    Vec3<F> color;
+    F opacity;
+    volume_texture_->template lookup<Arch>(p, lanes, color, opacity);
+    s.color = select(s.has_color, s.color * color, color);
+    s.alpha = s.alpha * opacity;
+    s.has_color = lanes;
+  }
+
   Spheres() = default;
 
   Vec3f center(std::uint32_t i) const {
@@ -227,6 +260,7 @@ private:
   SphereIntersector intersector_ = SphereIntersector::sciray;
   std::size_t owned_bytes_ = 0;
   std::shared_ptr<const void> keep_alive_;
+  std::shared_ptr<const VolumeTexture> volume_texture_;
 };
 
 }  // namespace sciray

@@ -1,6 +1,7 @@
 #pragma once
 // Clipping geometry (OSPRay's `clippingGeometry`): volumes whose inside removes every
-// surface of the world. A clipping sphere, box or closed mesh clips its inside; a plane
+// surface of the world. A clipping sphere, box, closed mesh or round curve (the inside of
+// its tube, geometry/curve_solid.hpp) clips its inside; a plane
 // a·x + b·y + c·z + d = 0 clips the half-space behind its normal (a, b, c), the side where
 // a·x + b·y + c·z + d < 0; `invert` clips the other side instead (OSPRay's
 // invertNormals). A point inside any clipping volume is clipped.
@@ -8,7 +9,9 @@
 // The test runs on each candidate hit, through Embree's context filter, so the nearest
 // surviving hit is found by the same traversal: the clipped surface is simply not there,
 // and what lies behind it shows. Spheres, boxes and planes are tested analytically; a
-// closed mesh by the parity of the crossings of a ray from the point to infinity.
+// closed mesh by the parity of the crossings of a ray from the point to infinity; a curve
+// by the segments whose bounds hold the point (an Embree point query over them, one user
+// geometry per curve set), each tested analytically.
 #include <algorithm>
 #include <bit>
 #include <cmath>
@@ -22,6 +25,8 @@
 #include "sciray/accel/embree.hpp"
 #include "sciray/accel/trace.hpp"
 #include "sciray/error.hpp"
+#include "sciray/geometry/curve_solid.hpp"
+#include "sciray/geometry/curves.hpp"
 #include "sciray/geometry/mesh_data.hpp"
 #include "sciray/geometry/subdivision.hpp"
 #include "sciray/geometry/triangle_mesh.hpp"
@@ -33,6 +38,8 @@ class Clipping {
 public:
   /// Closed meshes and subdivision surfaces are counted in one 64-bit parity word.
   static constexpr std::size_t max_meshes = 64;
+  /// Curve sets are told apart in one 64-bit word too.
+  static constexpr std::size_t max_curve_sets = 64;
 
   void add_sphere(const Vec3f& center, float radius, bool invert = false) {
     if (!std::isfinite(center.x + center.y + center.z) || !(radius > 0.f) || !std::isfinite(radius))
@@ -85,12 +92,29 @@ public:
     mesh_scene_.reset();
   }
 
-  bool empty() const {
-    return spheres_.empty() && boxes_.empty() && planes_.empty() && meshes_.empty() && subdivisions_.empty();
+  /// A set of round (or disjoint) curves, Curves::validate's rules; the inside of its
+  /// tube is clipped. Flat curves and ribbons enclose nothing: an error.
+  void add_curves(std::shared_ptr<const CurveData> curves, bool invert = false) {
+    const std::string which = "clipping curves " + std::to_string(curve_sets_.size());
+    if (curve_sets_.size() == max_curve_sets)
+      throw Error("clipping: at most " + std::to_string(max_curve_sets) + " clipping curve sets are supported");
+    try {
+      Curves(curves).validate();
+      curve_sets_.push_back({curve_solids(*curves), invert});
+    } catch (const Error& e) {
+      throw Error(which + ": " + e.what());
+    }
+    curve_scene_.reset();
   }
 
-  /// Builds the BVH the closed-mesh test traces; call before rendering.
+  bool empty() const {
+    return spheres_.empty() && boxes_.empty() && planes_.empty() && meshes_.empty() && subdivisions_.empty() &&
+           curve_sets_.empty();
+  }
+
+  /// Builds the BVHs the closed-mesh and curve tests query; call before rendering.
   void commit(const accel::Device& device) {
+    commit_curves(device);
     mesh_scene_.reset();
     if (meshes_.empty() && subdivisions_.empty()) return;
     accel::Scene scene(device);
@@ -128,6 +152,11 @@ public:
         if (((inside >> i) & 1) != meshes_[i].invert) return true;
       for (std::size_t i = 0; i < subdivisions_.size(); ++i)
         if (((inside >> (meshes_.size() + i)) & 1) != subdivisions_[i].invert) return true;
+    }
+    if (!curve_sets_.empty()) {
+      const std::uint64_t inside = inside_curves(p);
+      for (std::size_t i = 0; i < curve_sets_.size(); ++i)
+        if (((inside >> i) & 1) != curve_sets_[i].invert) return true;
     }
     return false;
   }
@@ -170,6 +199,55 @@ private:
     return parity;
   }
 
+  /// One user geometry per curve set, its primitives the segments: a point query visits
+  /// the segments whose bounds hold the point (Embree's point queries skip its own curves).
+  void commit_curves(const accel::Device& device) {
+    curve_scene_.reset();
+    if (curve_sets_.empty()) return;
+    accel::Scene scene(device);
+    for (std::size_t i = 0; i < curve_sets_.size(); ++i) {
+      const std::vector<CurveSegmentSolid>& segments = curve_sets_[i].segments;
+      accel::GeometryHandle geometry(device, RTC_GEOMETRY_TYPE_USER);
+      rtcSetGeometryUserPrimitiveCount(geometry.get(), static_cast<unsigned>(segments.size()));
+      rtcSetGeometryUserData(geometry.get(), const_cast<CurveSegmentSolid*>(segments.data()));
+      rtcSetGeometryBoundsFunction(
+          geometry.get(),
+          [](const RTCBoundsFunctionArguments* args) {
+            const Box3f& b = static_cast<const CurveSegmentSolid*>(args->geometryUserPtr)[args->primID].bounds();
+            *args->bounds_o = {b.lower.x, b.lower.y, b.lower.z, 0.f, b.upper.x, b.upper.y, b.upper.z, 0.f};
+          },
+          nullptr);
+      RTCGeometry committed = geometry.commit(device, "clipping curves");
+      rtcAttachGeometryByID(scene.get(), committed, static_cast<unsigned>(i));
+      rtcReleaseGeometry(committed);
+      device.check("clipping curves");
+    }
+    scene.commit();
+    curve_scene_.emplace(std::move(scene));
+  }
+
+  /// Bit i set where `p` is inside curve set i.
+  std::uint64_t inside_curves(const Vec3f& p) const {
+    if (!curve_scene_) throw Error("clipping: commit() the clipping before rendering");
+    struct Query {
+      const Clipping* clipping;
+      Vec3f point;
+      std::uint64_t inside;
+    } query{this, p, 0};
+    const auto visit = [](RTCPointQueryFunctionArguments* args) {
+      auto& q = *static_cast<Query*>(args->userPtr);
+      const std::uint64_t bit = std::uint64_t{1} << args->geomID;
+      if (!(q.inside & bit) && q.clipping->curve_sets_[args->geomID].segments[args->primID].contains(q.point))
+        q.inside |= bit;
+      return false;  // the query's radius (0) stays
+    };
+    alignas(16) RTCPointQuery point{p.x, p.y, p.z, 0.f, 0.f};
+    RTCPointQueryContext context;
+    rtcInitPointQueryContext(&context);
+    rtcPointQuery(curve_scene_->get(), &point, &context, visit, &query);
+    return query.inside;
+  }
+
   std::vector<Sphere> spheres_;
   std::vector<BoxClip> boxes_;
   std::vector<Plane> planes_;
@@ -178,9 +256,16 @@ private:
     bool invert;
   };
 
+  struct CurveSet {
+    std::vector<CurveSegmentSolid> segments;
+    bool invert;
+  };
+
   std::vector<Mesh> meshes_;
   std::vector<SubdivisionClip> subdivisions_;
   std::optional<accel::Scene> mesh_scene_;
+  std::vector<CurveSet> curve_sets_;
+  std::optional<accel::Scene> curve_scene_;
 };
 
 }  // namespace sciray
