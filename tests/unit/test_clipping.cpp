@@ -133,3 +133,64 @@ TEST_CASE("clipping input is checked", "[clipping][errors]") {
   broken.indices[5] = 99;
   CHECK_THROWS_WITH(clipping.add_mesh(std::make_shared<MeshData>(broken)), Catch::Contains("refers to vertex 99"));
 }
+
+TEST_CASE("clipping geometry placed by a moving transform clips where it is at each ray's time", "[clipping][motion]") {
+  // A clipping sphere of radius 0.5 on the cube's front face, carried from x = -0.5 at
+  // time 0 to x = +0.5 at time 1: rays down +z at x = -0.5 and x = +0.5 pass the front
+  // face (t = 4) and reach the back face (t = 6) only while the sphere is over them.
+  // From time 1 on the moving placement is gone, as Embree shows a moving instance.
+  const auto ray = [](float x, float time) {
+    Ray<float> r{{x, 0.f, -5.f}, {0.f, 0.f, 1.f}};
+    r.time = time;
+    return r;
+  };
+  for (auto isa : supported_isas()) {
+    INFO(simd::isa_name(isa));
+    accel::Device device;
+    shim::EngineWorld world(device);
+    world.add(TriangleMesh(cube_mesh({-1.f, -1.f, -1.f}, {1.f, 1.f, 1.f})));
+    auto sphere = std::make_shared<Clipping>();
+    sphere->add_sphere({0.f, 0.f, -1.f}, 0.5f);
+    auto clipping = std::make_shared<Clipping>();
+    clipping->add_placed(
+        sphere,
+        MotionTransform({Affine3f::translate({-0.5f, 0.f, 0.f}), Affine3f::translate({0.5f, 0.f, 0.f})}, 0.f, 1.f));
+    world.set_clipping(clipping);
+    const auto got =
+        trace(isa, world,
+              {ray(-0.5f, 0.f), ray(0.5f, 0.f), ray(-0.5f, 0.99f), ray(0.5f, 0.99f), ray(0.f, 0.5f), ray(0.5f, 1.f)});
+    CHECK(got[0].t == Approx(6.f).epsilon(1e-5));  // time 0: the sphere is over x = -0.5
+    CHECK(got[1].t == Approx(4.f).epsilon(1e-5));
+    CHECK(got[2].t == Approx(4.f).epsilon(1e-5));  // time 0.99: over x = +0.49
+    CHECK(got[3].t == Approx(6.f).epsilon(1e-5));
+    CHECK(got[4].t == Approx(6.f).epsilon(1e-5));  // halfway: over x = 0
+    CHECK(got[5].t == Approx(4.f).epsilon(1e-5));  // time 1: no longer there
+  }
+}
+
+TEST_CASE("a clipping sphere under a non-uniform scale clips as its ellipsoid", "[clipping]") {
+  // The sphere of radius 0.5 about (0, 0, -0.5), scaled by (2, 1, 2): the ellipsoid about
+  // (0, 0, -1) with semi-axes 1, 0.5 and 1. Its front face bite reaches x = ±1 along x
+  // but only y = ±0.5 along y; on the face (z = -1) points inside satisfy x² + 4y² < 1.
+  accel::Device device;
+  shim::EngineWorld world(device);
+  world.add(TriangleMesh(cube_mesh({-1.f, -1.f, -1.f}, {1.f, 1.f, 1.f})));
+  auto sphere = std::make_shared<Clipping>();
+  sphere->add_sphere({0.f, 0.f, -0.5f}, 0.5f);
+  auto clipping = std::make_shared<Clipping>();
+  Affine3f scale;
+  scale.vx = {2.f, 0.f, 0.f}, scale.vz = {0.f, 0.f, 2.f};
+  clipping->add_placed(sphere, MotionTransform(scale));
+  world.set_clipping(clipping);
+  const std::vector<Ray<float>> rays{{{0.8f, 0.f, -5.f}, {0.f, 0.f, 1.f}},     // x² + 4y² = 0.64
+                                     {{0.f, 0.4f, -5.f}, {0.f, 0.f, 1.f}},     // 0.64
+                                     {{0.f, 0.6f, -5.f}, {0.f, 0.f, 1.f}},     // 1.44
+                                     {{0.6f, 0.45f, -5.f}, {0.f, 0.f, 1.f}}};  // 1.17
+  const auto got = trace(shim::select_isa(), world, rays);
+  CHECK(got[0].t == Approx(6.f).epsilon(1e-5));
+  CHECK(got[1].t == Approx(6.f).epsilon(1e-5));
+  CHECK(got[2].t == Approx(4.f).epsilon(1e-5));
+  CHECK(got[3].t == Approx(4.f).epsilon(1e-5));
+  CHECK_THROWS_WITH(Clipping().add_placed(sphere, MotionTransform(Affine3f::scale(0.f))),
+                    Catch::Contains("clipping placement 0: its transform is singular"));
+}

@@ -2,6 +2,7 @@
 // shading interpolates what the mesh holds.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 
@@ -135,4 +136,69 @@ TEST_CASE("the procedural torus is closed and consistently oriented", "[mesh][te
       ++edges[{std::min(a, b), std::max(a, b)}];
     }
   for (const auto& [edge, count] : edges) REQUIRE(count == 2);
+}
+
+TEST_CASE("deforming mesh: normals of each time step are interpolated at the ray's time", "[mesh][motion]") {
+  // A unit quad in z = 0 that stays put while its normals turn about the y axis: 0, 45
+  // and 90 degrees from +z at three time steps over [0, 1] (motion.vertex.normal). As in
+  // OSPRay (Mesh.ispc), a normal is lerped between the two steps around the ray's time
+  // and then normalized, so at the fraction f between steps at angles a and a + 45° it
+  // points at a + atan2(f sin 45°, 1 - f + f cos 45°) — halfway, the bisector.
+  constexpr float pi = 3.14159265f, step = pi / 4.f;
+  MeshData m = square(true);
+  m.motion_positions = {m.positions, m.positions, m.positions};
+  for (int k = 0; k < 3; ++k) {
+    auto& normals = m.motion_normals.emplace_back();
+    for (int v = 0; v < 4; ++v) normals.insert(normals.end(), {std::sin(k * step), 0.f, std::cos(k * step)});
+  }
+  const auto expected_angle = [&](float time) {
+    const float x = 2.f * time, k = std::min(std::floor(x), 1.f), f = x - k;
+    return k * step + std::atan2(f * std::sin(step), 1.f - f + f * std::cos(step));
+  };
+  accel::Device device;
+  World<TriangleMesh> world(device);
+  world.add(TriangleMesh(m));
+  world.commit();
+  const TriangleMesh& mesh = world.all<TriangleMesh>()[0];
+
+  // One ray at a time: 0, 22.5, 45 and 67.5 degrees.
+  for (const float time : {0.f, 0.25f, 0.5f, 0.75f}) {
+    INFO("time " << time);
+    Ray<float> ray = down_at(0.3f, 0.6f);
+    ray.time = time;
+    const auto hit = accel::intersect<simd::scalar>(world.scene(), ray, true);
+    REQUIRE(hit.hit);
+    const auto s = mesh.surface<simd::scalar>(hit, true);
+    CHECK(s.normal.x == Approx(std::sin(2.f * time * step)).margin(1e-6));
+    CHECK(s.normal.y == Approx(0.f).margin(1e-6));
+    CHECK(s.normal.z == Approx(std::cos(2.f * time * step)).margin(1e-6));
+  }
+
+  // A packet whose lanes lie in both segments between the steps.
+  using A = xsimd::sse2;
+  using F = simd::Float<A>;
+  const F time{0.1f, 0.3f, 0.6f, 0.95f};
+  Ray<F> rays;
+  rays.org = {F{0.2f, 0.4f, 0.6f, 0.8f}, F(0.5f), F(1.f)};
+  rays.dir = {F(0.f), F(0.f), F(-1.f)};
+  rays.time = time;
+  const auto hit = accel::intersect<A>(world.scene(), rays, F(0.f) == F(0.f));
+  REQUIRE(simd::all(hit.hit));
+  const auto s = mesh.surface<A>(hit, hit.hit);
+  for (int i = 0; i < 4; ++i) {
+    INFO("lane " << i << " at time " << simd::lane(time, i));
+    const float angle = expected_angle(simd::lane(time, i));
+    CHECK(simd::lane(s.normal.x, i) == Approx(std::sin(angle)).margin(1e-6));
+    CHECK(simd::lane(s.normal.z, i) == Approx(std::cos(angle)).margin(1e-6));
+  }
+
+  // Normals need one array per time step of the positions, each with one per vertex.
+  MeshData fewer = m;
+  fewer.motion_normals.pop_back();
+  CHECK_THROWS_WITH(TriangleMesh(fewer).validate(),
+                    Catch::Contains("'motion.vertex.normal' has 2 time steps but 'motion.vertex.position' has 3"));
+  MeshData short_step = m;
+  short_step.motion_normals[2].resize(9);
+  CHECK_THROWS_WITH(TriangleMesh(short_step).validate(),
+                    Catch::Contains("'motion.vertex.normal[2]' has 3 elements but there are 4 vertices"));
 }

@@ -221,12 +221,12 @@ TEST_CASE("subdivision: a closed surface clips its inside and an open one is ref
   inverted.commit(device);
   // The limit surface, not the cage, bounds the clipped region: x = 0.9 lies between.
   for (const Vec3f& p : {Vec3f{0.f, 0.f, 0.f}, Vec3f{0.8f, 0.f, 0.f}, Vec3f{0.3f, -0.4f, 0.45f}}) {
-    CHECK(clipping.clipped(p));
-    CHECK_FALSE(inverted.clipped(p));
+    CHECK(clipping.clipped(p, 0.f));
+    CHECK_FALSE(inverted.clipped(p, 0.f));
   }
   for (const Vec3f& p : {Vec3f{0.9f, 0.f, 0.f}, Vec3f{0.f, 0.f, 2.f}, Vec3f{0.75f, 0.75f, 0.75f}}) {
-    CHECK_FALSE(clipping.clipped(p));
-    CHECK(inverted.clipped(p));
+    CHECK_FALSE(clipping.clipped(p, 0.f));
+    CHECK(inverted.clipped(p, 0.f));
   }
   SubdivisionData open = cube();
   open.indices.resize(20), open.face_sizes.resize(5);

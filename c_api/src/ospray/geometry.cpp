@@ -95,10 +95,38 @@ void Geometry::commit_mesh() {
     if (const Data* d = get_data(*this, find(id), id, types)) return Attribute{d, true, id};
     return Attribute{get_data(*this, find("vertex." + id), "vertex." + id, types), false, "vertex." + id};
   };
-  const Attribute normal = attribute("normal", {OSP_VEC3F});
+  // A deforming mesh's normals may change too: one vec3f array per time step, per vertex
+  // (`motion.vertex.normal`) or per face corner (`motion.normal`). As in OSPRay they are
+  // read only beside `motion.vertex.position`, replace the rigid normals, and may have
+  // more steps than the positions (the rest is ignored).
+  Attribute motion_normal;
+  std::vector<Attribute> normal_steps;
+  if (!steps.empty()) {
+    if (const Data* d = get_data(*this, find("motion.normal"), "motion.normal", {OSP_DATA}))
+      motion_normal = {d, true, "motion.normal"};
+    else
+      motion_normal = {get_data(*this, find("motion.vertex.normal"), "motion.vertex.normal", {OSP_DATA}), false,
+                       "motion.vertex.normal"};
+  }
+  if (const Data* list = motion_normal.data) {
+    if (list->size() < steps.size())
+      throw Error(name() + ": parameter '" + motion_normal.id + "' has " + std::to_string(list->size()) +
+                  " time steps but 'motion.vertex.position' has " + std::to_string(steps.size()));
+    for (std::size_t k = 0; k < steps.size(); ++k) {
+      const std::string element = motion_normal.id + "[" + std::to_string(k) + "]";
+      const auto* step = static_cast<const Data*>(list->object(k));
+      if (!step) throw Error(name() + ": parameter '" + element + "' is NULL");
+      if (step->element_type() != OSP_VEC3F || step->dimensions() != 1)
+        throw Error(name() + ": parameter '" + element + "' must be a 1D array of vec3f, got an array of " +
+                    type_name(step->element_type()));
+      normal_steps.push_back({step, motion_normal.face_varying, element});
+    }
+  }
+  const Attribute normal = motion_normal.data ? Attribute{} : attribute("normal", {OSP_VEC3F});
   const Attribute color = attribute("color", {OSP_VEC4F, OSP_VEC3F});
   const Attribute texcoord = attribute("texcoord", {OSP_VEC2F});
-  const bool face_varying = normal.face_varying || color.face_varying || texcoord.face_varying;
+  const bool face_varying =
+      normal.face_varying || motion_normal.face_varying || color.face_varying || texcoord.face_varying;
 
   // A copy, padded for Embree: the application's arrays carry no padding guarantee.
   auto mesh = std::make_shared<MeshData>();
@@ -132,6 +160,7 @@ void Geometry::commit_mesh() {
     }
   };
   read(normal, mesh->normals, 3, 3);
+  for (const Attribute& step : normal_steps) read(step, mesh->motion_normals.emplace_back(), 3, 3);
   read(color, mesh->vertex_colors, 3, 4);
   read(texcoord, mesh->texcoords, 2, 2);
   TriangleMesh check(mesh);

@@ -162,8 +162,9 @@ MotionTransform read_placement(const Object& owner, const std::function<const Pa
       if (arrays[1]) d.shift = vec3(1);
       if (arrays[3]) d.translation = vec3(3);
       if (arrays[2]) {
+        // OSPRay's quatf (rkcommon's) lies in memory as i, j, k, r: the real part last.
         const std::byte* e = arrays[2]->element(k);
-        const Quaternion q{read_float(e), read_float(e + 4), read_float(e + 8), read_float(e + 12)};
+        const Quaternion q{read_float(e + 12), read_float(e), read_float(e + 4), read_float(e + 8)};
         const float norm = std::sqrt(dot(q, q));
         if (!(std::abs(norm - 1.f) <= 1e-3f))
           throw Error(owner.name() + ": parameter 'motion.rotation' element " + std::to_string(k) +

@@ -383,9 +383,12 @@ void add_clipper(Clipping& clipping, const GeometricModel& model, const Affine3f
   const bool invert = model.invert_normals();
   if (const auto& spheres = geometry.spheres()) {
     const std::optional<float> scale = uniform_scale(m);
-    if (!scale)
-      throw Error("its instance's transform scales non-uniformly (a sphere becomes an ellipsoid), which clipping "
-                  "spheres do not support yet");
+    if (!scale) {  // ellipsoids: clipped as spheres in their own space
+      auto local = std::make_shared<Clipping>();
+      add_clipper(*local, model, Affine3f{});
+      clipping.add_placed(std::move(local), MotionTransform(m));
+      return;
+    }
     for (std::size_t i = 0; i < spheres->count(); ++i) {
       const float* c = &spheres->positions[3 * i];
       const float radius = spheres->radii.empty() ? spheres->radius : spheres->radii[i];
@@ -642,15 +645,27 @@ std::shared_ptr<Clipping> World::build_clipping() const {
   for (std::size_t i = 0; i < instances_.size(); ++i) {
     const Instance& instance = *instances_[i];
     const auto& models = instance.group()->clipping_models();
-    if (!models.empty() && instance.placement().moving())
-      throw Error(name() + ": instance " + std::to_string(i) +
-                  " moves (motion.*) a group with clipping geometry: moving clipping geometry is not supported yet");
+    if (models.empty()) continue;
+    // A moving instance's clipping geometry stays in its group's space, placed at each
+    // ray's time; a static instance's is placed once.
+    const bool moving = instance.placement().moving();
+    const auto local = moving ? std::make_shared<Clipping>() : nullptr;
     for (std::size_t k = 0; k < models.size(); ++k) {
       try {
-        add_clipper(*clipping, *models[k], instance.placement().key(0));
+        if (moving)
+          add_clipper(*local, *models[k], Affine3f{});
+        else
+          add_clipper(*clipping, *models[k], instance.placement().key(0));
       } catch (const Error& e) {
         throw Error(name() + ": the group of instance " + std::to_string(i) + ", parameter 'clippingGeometry' " +
                     "element " + std::to_string(k) + " (" + models[k]->geometry()->name() + "): " + e.what());
+      }
+    }
+    if (moving) {
+      try {
+        clipping->add_placed(local, instance.placement());
+      } catch (const Error& e) {
+        throw Error(name() + ": instance " + std::to_string(i) + " placing clipping geometry: " + e.what());
       }
     }
   }

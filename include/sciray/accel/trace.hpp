@@ -23,6 +23,7 @@ struct Hit {
   I prim_id;       ///< primitive index (0 where no hit)
   I geom_id;       ///< Embree geometry id (RTC_INVALID_GEOMETRY_ID where no hit)
   I inst_id;       ///< top-level id of the instance hit, RTC_INVALID_GEOMETRY_ID for direct geometry
+  F time = F(0.f);  ///< the ray's time, at which a deforming mesh interpolates its normals
 };
 
 namespace detail {
@@ -145,6 +146,7 @@ Hit<Arch> intersect(RTCScene scene, const Ray<simd::Float<Arch>>& ray, const sim
     hit.prim_id = static_cast<std::int32_t>(rh.hit.primID);
     hit.geom_id = static_cast<std::int32_t>(rh.hit.geomID);
     hit.inst_id = static_cast<std::int32_t>(rh.hit.instID[0]);
+    hit.time = ray.time;
   } else {
     using Packet = detail::EmbreePacket<simd::width<Arch>>;
     typename Packet::RayHit rh;
@@ -164,6 +166,7 @@ Hit<Arch> intersect(RTCScene scene, const Ray<simd::Float<Arch>>& ray, const sim
     hit.prim_id = I::load_aligned(reinterpret_cast<const std::int32_t*>(rh.hit.primID));
     hit.geom_id = I::load_aligned(reinterpret_cast<const std::int32_t*>(rh.hit.geomID));
     hit.inst_id = I::load_aligned(reinterpret_cast<const std::int32_t*>(rh.hit.instID[0]));
+    hit.time = ray.time;
   }
   return hit;
 }

@@ -21,6 +21,9 @@ struct MeshData {
   /// A deforming mesh's x,y,z per vertex at each of at least two time steps spaced evenly
   /// over [time_start, time_end] (`positions` then holds the first); empty for a rigid one.
   std::vector<PaddedVector<float>> motion_positions;
+  /// A deforming mesh's x,y,z normal per vertex at each of its time steps (as many as
+  /// motion_positions), or empty: then `normals`, if any, at every time.
+  std::vector<PaddedVector<float>> motion_normals;
   float time_start = 0.f, time_end = 1.f;
 
   std::size_t vertex_count() const { return positions.size() / 3; }

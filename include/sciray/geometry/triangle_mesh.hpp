@@ -39,6 +39,10 @@ public:
     /// evenly over [time_start, time_end], which Embree interpolates linearly at each
     /// ray's time; empty for a rigid mesh (`positions` alone).
     std::vector<StridedView<float>> motion_positions;
+    /// A deforming mesh's normals (3 floats per vertex) at each of its time steps,
+    /// interpolated at each ray's time as the positions are; empty for normals that do
+    /// not change (`normals`, if any).
+    std::vector<StridedView<float>> motion_normals;
     float time_start = 0.f, time_end = 1.f;
   };
 
@@ -64,6 +68,10 @@ public:
                    d.indices.size() * sizeof(std::uint32_t);
     for (const auto& step : d.motion_positions) {
       arrays_.motion_positions.push_back({step.data(), step.size() / 3, 3 * sizeof(float)});
+      owned_bytes_ += step.size() * sizeof(float);
+    }
+    for (const auto& step : d.motion_normals) {
+      arrays_.motion_normals.push_back({step.data(), step.size() / 3, 3 * sizeof(float)});
       owned_bytes_ += step.size() * sizeof(float);
     }
     arrays_.time_start = d.time_start, arrays_.time_end = d.time_end;
@@ -166,6 +174,16 @@ public:
         check_optional(step.c_str(), a.motion_positions[k], a.positions.count, 3, "vertices");
       }
     }
+    if (!a.motion_normals.empty()) {
+      if (a.motion_normals.size() != a.motion_positions.size())
+        throw Error("mesh: 'motion.vertex.normal' has " + std::to_string(a.motion_normals.size()) +
+                    " time steps but 'motion.vertex.position' has " + std::to_string(a.motion_positions.size()));
+      for (std::size_t k = 0; k < a.motion_normals.size(); ++k) {
+        const std::string step = "motion.vertex.normal[" + std::to_string(k) + "]";
+        if (a.motion_normals[k].empty()) throw Error("mesh: '" + step + "' is empty");
+        check_optional(step.c_str(), a.motion_normals[k], a.positions.count, 3, "vertices");
+      }
+    }
   }
 
   Box3f bounds() const {
@@ -238,7 +256,14 @@ public:
     } else {
       s.uv = {hit.u, hit.v};  // as OSPRay: the hit's own coordinates (a quad's spans [0, 1]^2)
     }
-    if (!a.normals.empty()) {
+    if (!a.motion_normals.empty()) {
+      // Over the face in each of the time steps around the ray's time, then between them
+      // (OSPRay's order: both are linear, so either order gives the same normal).
+      s.normal = normalize(at_time<Arch>(a.motion_normals, hit.time, lanes, [&](const StridedView<float>& step) {
+        const auto n = interpolate<Arch, 3>(step, corners);
+        return Vec3<F>{n[0], n[1], n[2]};
+      }));
+    } else if (!a.normals.empty()) {
       const auto n = interpolate<Arch, 3>(a.normals, corners);
       s.normal = normalize(Vec3<F>{n[0], n[1], n[2]});
     } else {
@@ -267,7 +292,8 @@ public:
   }
 
   /// The derivatives dP/ds and dP/dt of position along the texture coordinates at the
-  /// hits of `lanes` (object space, one per face), which orient normal maps: solved from
+  /// hits of `lanes` (object space, one per face, a deforming one's at the hits' time),
+  /// which orient normal maps: solved from
   /// a triangle's corners (a quad's first, second and last), as OSPRay does; where the
   /// mesh has no texture coordinates or they degenerate, the face's edges from its first
   /// corner to the second and to the last.
@@ -289,7 +315,12 @@ public:
     std::array<Vec3<F>, 3> p;
     for (int j = 0; j < 3; ++j) {
       const I& v = corner[static_cast<std::size_t>(j)];
-      p[static_cast<std::size_t>(j)] = {read(a.positions, v, 0), read(a.positions, v, 1), read(a.positions, v, 2)};
+      const auto position = [&](const StridedView<float>& step) {
+        return Vec3<F>{read(step, v, 0), read(step, v, 1), read(step, v, 2)};
+      };
+      // A deforming mesh's corners where the ray met them.
+      p[static_cast<std::size_t>(j)] =
+          deforming() ? at_time<Arch>(a.motion_positions, hit.time, lanes, position) : position(a.positions);
     }
     Vec3<F> dpds = p[1] - p[0], dpdt = p[2] - p[0];
     if (a.texcoords.empty()) return {dpds, dpdt};
@@ -307,6 +338,32 @@ public:
   }
 
 private:
+  /// `read(step)` (a value per lane read from one time step's array) at each lane's
+  /// time: linear between the two steps around it, as Embree interpolates positions
+  /// (position() for one vertex). Lanes outside `lanes` get step 0's value.
+  template <class Arch, class Read>
+  Vec3<simd::Float<Arch>> at_time(const std::vector<StridedView<float>>& steps, const simd::Float<Arch>& time,
+                                  const simd::Mask<Arch>& lanes, Read&& read) const {
+    using F = simd::Float<Arch>;
+    const float span = arrays_.time_end - arrays_.time_start;
+    const auto last_segment = static_cast<float>(steps.size() - 2);
+    const F x = span > 0.f ? simd::min(simd::max((time - F(arrays_.time_start)) / F(span), F(0.f)), F(1.f)) *
+                                 F(static_cast<float>(steps.size() - 1))
+                           : F(0.f);
+    const F segment = simd::min(simd::to_float(simd::to_int(x)), F(last_segment));  // x >= 0: truncation floors
+    const F f = x - segment;
+    const Vec3<F> first = read(steps[0]);
+    Vec3<F> out = first;
+    // A packet's lanes may sit in different segments: each segment the packet touches once.
+    for (std::size_t k = 0; k + 1 < steps.size(); ++k) {
+      const simd::Mask<Arch> in_segment = lanes & (segment == F(static_cast<float>(k)));
+      if (!simd::any(in_segment)) continue;
+      const Vec3<F> a = k == 0 ? first : read(steps[k]), b = read(steps[k + 1]);
+      out = select(in_segment, a * (F(1.f) - f) + b * f, out);
+    }
+    return out;
+  }
+
   /// The vertices a hit interpolates between, and their weights.
   template <class Arch>
   struct Corners {

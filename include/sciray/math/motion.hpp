@@ -16,7 +16,8 @@
 
 namespace sciray {
 
-/// A rotation as the quaternion r + i·I + j·J + k·K (OSPRay's quatf order).
+/// A rotation as the quaternion r + i·I + j·J + k·K (OSPRay's quatf stores it as i, j,
+/// k, r).
 struct Quaternion {
   float r = 1.f, i = 0.f, j = 0.f, k = 0.f;
 };

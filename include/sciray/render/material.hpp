@@ -32,6 +32,10 @@ struct ObjMaterial {
   Vec3f tf{0.f, 0.f, 0.f};
   TextureMap map_kd{}, map_ks{}, map_ns{}, map_d{};
   NormalMap map_bump{};  ///< a normal map, as OSPRay's obj material reads map_bump
+  /// Whether kd, ks and tf are already scaled for energy conservation (energy_conserving
+  /// then leaves them): where kd multiplies geometry colours that baked in the
+  /// material's own kd, conservation has to be judged by that kd, not by this one.
+  bool energy_conserved = false;
 };
 
 /// OSPRay `principled`: a layered physically based material (Disney/Burley style).
@@ -302,12 +306,22 @@ inline const Material& textured(const Material& material, const TexCoord<float>&
   return storage;
 }
 
-/// `m` as every renderer shades it: OSPRay's energy conservation scales kd, ks and tf
-/// down together where they add up to more than 1 in a channel.
-inline ObjMaterial energy_conserving(ObjMaterial m) {
+/// The factor OSPRay's energy conservation scales kd, ks and tf by: 1 / their largest
+/// per-channel sum where that exceeds 1, else 1.
+inline float energy_scale(const ObjMaterial& m) {
   const Vec3f sum = m.kd + m.ks + m.tf;
   const float total = std::max({sum.x, sum.y, sum.z});
-  if (total > 1.f) m.kd = m.kd / total, m.ks = m.ks / total, m.tf = m.tf / total;
+  return total > 1.f ? 1.f / total : 1.f;
+}
+
+/// `m` as every renderer shades it: OSPRay's energy conservation scales kd, ks and tf
+/// down together where they add up to more than 1 in a channel (once: not where
+/// `energy_conserved` says it was done).
+inline ObjMaterial energy_conserving(ObjMaterial m) {
+  if (m.energy_conserved) return m;
+  const float scale = energy_scale(m);
+  m.kd = m.kd * scale, m.ks = m.ks * scale, m.tf = m.tf * scale;
+  m.energy_conserved = true;
   return m;
 }
 

@@ -481,6 +481,7 @@ private:
     accel::Hit<Arch> hit;
     hit.prim_id = simd::load<Arch>(ids[0]), hit.geom_id = simd::load<Arch>(ids[1]), hit.inst_id = simd::load<Arch>(ids[2]);
     hit.t = simd::load<Arch>(lanes[6]), hit.u = simd::load<Arch>(lanes[7]), hit.v = simd::load<Arch>(lanes[8]);
+    hit.time = time;
     hit.hit = hit.t > F(0.f);  // the lanes with a sample
     if (!simd::any(hit.hit)) return;
     hit.ng = {simd::load<Arch>(lanes[9]), simd::load<Arch>(lanes[10]), simd::load<Arch>(lanes[11])};

@@ -12,6 +12,10 @@
 // closed mesh by the parity of the crossings of a ray from the point to infinity; a curve
 // by the segments whose bounds hold the point (an Embree point query over them, one user
 // geometry per curve set), each tested analytically.
+//
+// Clipping geometry placed by a moving instance (OSPRay's `motion.*`) clips where the
+// instance is at each ray's time: it is kept in its own space with its placement, and
+// a point is carried there by the placement's inverse at that time.
 #include <algorithm>
 #include <bit>
 #include <cmath>
@@ -31,6 +35,7 @@
 #include "sciray/geometry/subdivision.hpp"
 #include "sciray/geometry/triangle_mesh.hpp"
 #include "sciray/math/box.hpp"
+#include "sciray/math/motion.hpp"
 
 namespace sciray {
 
@@ -107,14 +112,35 @@ public:
     curve_scene_.reset();
   }
 
+  /// Clipping geometry `local`, in its own space, placed by `placement` (every key
+  /// invertible): at each ray's time it clips where the placement puts it then, and a
+  /// moving placement only from its start until (not at) its end, as Embree shows a
+  /// moving instance. Under a non-uniform scale a sphere clips as the ellipsoid it
+  /// becomes.
+  void add_placed(std::shared_ptr<Clipping> local, MotionTransform placement) {
+    const std::string what = "clipping placement " + std::to_string(placed_.size());
+    if (!local) throw Error(what + ": its clipping geometry is null");
+    for (std::size_t k = 0; k < placement.key_count(); ++k) {
+      const float det = placement.key(k).determinant();
+      if (det == 0.f || !std::isfinite(det))
+        throw Error(what + ": its transform is singular or not finite" +
+                    (placement.moving() ? " at key " + std::to_string(k) : std::string()));
+    }
+    const Affine3f inverse = placement.moving() ? Affine3f{} : placement.key(0).inverse();
+    placed_.push_back({std::move(local), std::move(placement), inverse});
+  }
+
   bool empty() const {
-    return spheres_.empty() && boxes_.empty() && planes_.empty() && meshes_.empty() && subdivisions_.empty() &&
-           curve_sets_.empty();
+    if (!(spheres_.empty() && boxes_.empty() && planes_.empty() && meshes_.empty() && subdivisions_.empty() &&
+          curve_sets_.empty()))
+      return false;
+    return std::all_of(placed_.begin(), placed_.end(), [](const Placed& part) { return part.local->empty(); });
   }
 
   /// Builds the BVHs the closed-mesh and curve tests query; call before rendering.
   void commit(const accel::Device& device) {
     commit_curves(device);
+    for (Placed& part : placed_) part.local->commit(device);
     mesh_scene_.reset();
     if (meshes_.empty() && subdivisions_.empty()) return;
     accel::Scene scene(device);
@@ -133,8 +159,9 @@ public:
     mesh_scene_.emplace(std::move(scene));
   }
 
-  /// Whether the point `p` lies in a clipped region.
-  bool clipped(const Vec3f& p) const {
+  /// Whether the point `p` lies in a clipped region for rays at `time` (placed clipping
+  /// geometry may move).
+  bool clipped(const Vec3f& p, float time) const {
     for (const auto& s : spheres_) {
       const Vec3f d = p - s.center;
       if ((dot(d, d) < s.radius * s.radius) != s.invert) return true;
@@ -157,6 +184,14 @@ public:
       const std::uint64_t inside = inside_curves(p);
       for (std::size_t i = 0; i < curve_sets_.size(); ++i)
         if (((inside >> i) & 1) != curve_sets_[i].invert) return true;
+    }
+    for (const Placed& part : placed_) {
+      const MotionTransform& m = part.placement;
+      if (!m.moving()) {
+        if (part.local->clipped(part.inverse.point(p), time)) return true;
+      } else if (time >= m.start() && time < m.end() && part.local->clipped(m.at(time).inverse().point(p), time)) {
+        return true;
+      }
     }
     return false;
   }
@@ -261,8 +296,15 @@ private:
     bool invert;
   };
 
+  struct Placed {
+    std::shared_ptr<Clipping> local;
+    MotionTransform placement;
+    Affine3f inverse;  ///< a static placement's, computed once
+  };
+
   std::vector<Mesh> meshes_;
   std::vector<SubdivisionClip> subdivisions_;
+  std::vector<Placed> placed_;
   std::optional<accel::Scene> mesh_scene_;
   std::vector<CurveSet> curve_sets_;
   std::optional<accel::Scene> curve_scene_;

@@ -410,9 +410,10 @@ private:
               RTCRayN_org_y(args->ray, args->N, i) + t * RTCRayN_dir_y(args->ray, args->N, i),
               RTCRayN_org_z(args->ray, args->N, i) + t * RTCRayN_dir_z(args->ray, args->N, i)};
       const unsigned instance = RTCHitN_instID(args->hit, args->N, i, 0);
+      const float time = RTCRayN_time(args->ray, args->N, i);
       if (instance != RTC_INVALID_GEOMETRY_ID)
-        p = world.instances_[instance - world.geometry_count()].motion.at(RTCRayN_time(args->ray, args->N, i)).point(p);
-      if (world.clipping_->clipped(p)) args->valid[i] = 0;
+        p = world.instances_[instance - world.geometry_count()].motion.at(time).point(p);
+      if (world.clipping_->clipped(p, time)) args->valid[i] = 0;
     }
   }
 

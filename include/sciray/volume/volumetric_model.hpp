@@ -193,7 +193,8 @@ public:
       const F next = t + step;
       const Vec3<F> p = ray.org + ray.dir * ((t + step_end) * F(0.5f));
       if (how.clipping && simd::any(sampled))
-        sampled = sampled & !clipped<Arch>(placed.world_point((t + step_end) * F(0.5f)), sampled, *how.clipping);
+        sampled = sampled &
+                  !clipped<Arch>(placed.world_point((t + step_end) * F(0.5f)), placed.ray.time, sampled, *how.clipping);
       if (simd::any(sampled)) {
         F sigma;
         Vec3<F> color;
@@ -388,7 +389,7 @@ private:
     using F = simd::Float<Arch>;
     const F sigma = tf_.template opacity<Arch>(value) * F(density_scale_);
     if (!clipping) return sigma;
-    return simd::select(clipped<Arch>(placed.world_point(t), lanes, *clipping), F(0.f), sigma);
+    return simd::select(clipped<Arch>(placed.world_point(t), placed.ray.time, lanes, *clipping), F(0.f), sigma);
   }
 
   template <class F>
@@ -418,17 +419,17 @@ private:
       return xsimd::log(x);
   }
 
-  /// Which lanes' positions lie in a clipped region (tested lane by lane: clipping
-  /// meshes answer by tracing).
+  /// Which lanes' positions lie in a clipped region at their rays' `time` (tested lane
+  /// by lane: clipping meshes answer by tracing).
   template <class Arch>
-  static simd::Mask<Arch> clipped(const Vec3<simd::Float<Arch>>& p, const simd::Mask<Arch>& lanes,
-                                  const Clipping& clipping) {
+  static simd::Mask<Arch> clipped(const Vec3<simd::Float<Arch>>& p, const simd::Float<Arch>& time,
+                                  const simd::Mask<Arch>& lanes, const Clipping& clipping) {
     using F = simd::Float<Arch>;
     constexpr int W = simd::width<Arch>;
     alignas(64) float out[W];
     for (int i = 0; i < W; ++i)
-      out[i] = simd::lane(lanes, i) &&
-                       clipping.clipped({simd::lane(p.x, i), simd::lane(p.y, i), simd::lane(p.z, i)})
+      out[i] = simd::lane(lanes, i) && clipping.clipped({simd::lane(p.x, i), simd::lane(p.y, i), simd::lane(p.z, i)},
+                                                        simd::lane(time, i))
                    ? 1.f
                    : 0.f;
     return simd::load<Arch>(out) != F(0.f);
