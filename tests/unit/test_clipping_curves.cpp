@@ -80,14 +80,14 @@ TEST_CASE("clipping: a round linear curve clips the tube of analytic cross-secti
   int clipped = 0;
   for (int j = 0; j < n; ++j)
     for (int i = 0; i < n; ++i)
-      clipped += c.clipping.clipped({-1.f + (i + 0.5f) * cell, -1.f + (j + 0.5f) * cell, 0.f});
+      clipped += c.clipping.clipped({-1.f + (i + 0.5f) * cell, -1.f + (j + 0.5f) * cell, 0.f}, 0.f);
   const double area = 0.6 + std::numbers::pi * 0.09;
   CHECK(clipped * cell * cell == Approx(area).epsilon(2e-3));
   // Beyond the tube's rounded ends and off its side, nothing is clipped.
-  CHECK(c.clipping.clipped({0.79f, 0.f, 0.f}));
-  CHECK_FALSE(c.clipping.clipped({0.81f, 0.f, 0.f}));
-  CHECK(c.clipping.clipped({0.f, 0.f, 0.29f}));
-  CHECK_FALSE(c.clipping.clipped({0.f, 0.f, 0.31f}));
+  CHECK(c.clipping.clipped({0.79f, 0.f, 0.f}, 0.f));
+  CHECK_FALSE(c.clipping.clipped({0.81f, 0.f, 0.f}, 0.f));
+  CHECK(c.clipping.clipped({0.f, 0.f, 0.29f}, 0.f));
+  CHECK_FALSE(c.clipping.clipped({0.f, 0.f, 0.31f}, 0.f));
 }
 
 TEST_CASE("clipping: a round linear curve of varying radius clips the convex hull of its end spheres",
@@ -109,7 +109,7 @@ TEST_CASE("clipping: a round linear curve of varying radius clips the convex hul
       return nearest < 0.f;
     };
     int inside = 0;
-    CHECK(disagreements([&](const Vec3f& p) { return c.clipping.clipped(p); }, hull,
+    CHECK(disagreements([&](const Vec3f& p) { return c.clipping.clipped(p, 0.f); }, hull,
                         {{-1.5f, -1.5f, -1.5f}, {1.5f, 1.5f, 1.5f}}, 24, &inside) == 0);
     CHECK(inside > 100);
   }
@@ -123,10 +123,10 @@ TEST_CASE("clipping: a disjoint curve clips its flat-capped cone", "[clipping][c
     return p.x > 0.f && p.x < 1.f && off < r;
   };
   int inside = 0;
-  CHECK(disagreements([&](const Vec3f& p) { return c.clipping.clipped(p); }, cone,
+  CHECK(disagreements([&](const Vec3f& p) { return c.clipping.clipped(p, 0.f); }, cone,
                       {{-0.5f, -0.6f, -0.6f}, {1.5f, 0.6f, 0.6f}}, 24, &inside) == 0);
   CHECK(inside > 100);
-  CHECK_FALSE(c.clipping.clipped({-0.1f, 0.f, 0.f}));  // no sphere at the ends, unlike round curves
+  CHECK_FALSE(c.clipping.clipped({-0.1f, 0.f, 0.f}, 0.f));  // no sphere at the ends, unlike round curves
 }
 
 TEST_CASE("clipping: round cubic curves of every basis clip the sweep of their discs", "[clipping][curves]") {
@@ -167,7 +167,7 @@ TEST_CASE("clipping: round cubic curves of every basis clip the sweep of their d
     INFO("basis " << static_cast<int>(test.basis));
     CurveClip c(curve(test.position_radius, {0}, CurveType::round, test.basis, test.tangents));
     int inside = 0;
-    CHECK(disagreements([&](const Vec3f& p) { return c.clipping.clipped(p); }, arc_tube,
+    CHECK(disagreements([&](const Vec3f& p) { return c.clipping.clipped(p, 0.f); }, arc_tube,
                         {{-0.3f, -0.3f, -0.3f}, {1.3f, 1.3f, 0.3f}}, 40, &inside) == 0);
     CHECK(inside > 500);
   }
@@ -183,14 +183,14 @@ TEST_CASE("clipping: curve sets clip together; invertNormals keeps a tube's insi
   clipping.add_curves(curve({0.f, -1.f, 0.f, 0.2f, 0.f, 0.f, 0.f, 0.2f, 0.f, 1.f, 0.f, 0.2f}, {0, 1}, CurveType::round,
                             CurveBasis::linear));
   clipping.commit(device);
-  CHECK(clipping.clipped({0.f, 0.f, 0.f}));          // in both
-  CHECK(clipping.clipped({0.f, 0.05f, 0.15f}));      // in both, at the y tube's joint
-  CHECK(clipping.clipped({0.1f, 0.3f, 0.f}));        // in both, off the joint
-  CHECK_FALSE(clipping.clipped({0.3f, 0.3f, 0.f}));  // in the kept tube only
-  CHECK_FALSE(clipping.clipped({0.5f, 0.f, 0.3f}));  // in the kept tube only
-  CHECK_FALSE(clipping.clipped({0.f, 0.f, 0.45f}));  // in the kept tube, beside the y tube
-  CHECK(clipping.clipped({0.f, 0.f, 0.55f}));        // in neither
-  CHECK(clipping.clipped({2.f, 0.f, 0.f}));          // beyond the kept tube's end sphere
+  CHECK(clipping.clipped({0.f, 0.f, 0.f}, 0.f));          // in both
+  CHECK(clipping.clipped({0.f, 0.05f, 0.15f}, 0.f));      // in both, at the y tube's joint
+  CHECK(clipping.clipped({0.1f, 0.3f, 0.f}, 0.f));        // in both, off the joint
+  CHECK_FALSE(clipping.clipped({0.3f, 0.3f, 0.f}, 0.f));  // in the kept tube only
+  CHECK_FALSE(clipping.clipped({0.5f, 0.f, 0.3f}, 0.f));  // in the kept tube only
+  CHECK_FALSE(clipping.clipped({0.f, 0.f, 0.45f}, 0.f));  // in the kept tube, beside the y tube
+  CHECK(clipping.clipped({0.f, 0.f, 0.55f}, 0.f));        // in neither
+  CHECK(clipping.clipped({2.f, 0.f, 0.f}, 0.f));          // beyond the kept tube's end sphere
 }
 
 TEST_CASE("clipping curves: a tube through the cube's front face shows its back face on every ISA",
@@ -240,7 +240,7 @@ TEST_CASE("clipping curves: what encloses nothing and bad curves are named", "[c
                     Catch::Contains("clipping curves 0: curve: 'index' 0 starts a segment at vertex 1"));
   CHECK(clipping.empty());
   clipping.add_curves(curve(line, {0}, CurveType::round, CurveBasis::linear));
-  CHECK_THROWS_WITH(clipping.clipped({0.f, 0.f, 0.f}), Catch::Contains("commit() the clipping"));
+  CHECK_THROWS_WITH(clipping.clipped({0.f, 0.f, 0.f}, 0.f), Catch::Contains("commit() the clipping"));
   clipping.commit(device);
-  CHECK(clipping.clipped({0.5f, 0.05f, 0.f}));
+  CHECK(clipping.clipped({0.5f, 0.05f, 0.f}, 0.f));
 }
