@@ -95,6 +95,7 @@ std::vector<NamedMaterial> material_corners() {
     add("carPaint all flakes" + at, paint);
     paint.flake_density = 0.5f, paint.flake_color.reset(), paint.flipflop_falloff = 0.f;
     add("carPaint aluminium flakes, flipflop" + at, paint);
+    add("plastic" + at, PlasticMaterial{{1.f, 1.f, 1.f}, 1.4f, roughness});
     auto backlit = principled(roughness);
     backlit.thin = true, backlit.backlight = 1.f, backlit.transmission = 0.3f;
     add("principled backlight" + at, backlit);

@@ -16,10 +16,11 @@
 //
 // Layers (principled, and the paints of render/bsdf_paint.hpp) follow OSPRay's: see
 // render/bsdf_lobes.hpp. Light bouncing between a layer and anything but a diffuse
-// substrate is ignored; GGX lobes of Schlick Fresnel (alloy, principled's metal, the
-// paints' flakes) get the energy of multiple scattering between microfacets back, as
-// OSPRay's, other microfacet lobes do not (neither do OSPRay's conductors of given eta
-// and k).
+// substrate is ignored. As OSPRay's, GGX lobes of Schlick Fresnel (alloy, principled's
+// metal, the paints' flakes) and rough glass get the energy of multiple scattering
+// between microfacets back; conductors of given eta and k do not (neither do OSPRay's),
+// nor do rough coats and principled's rough specular layer (OSPRay's do: they reflect a
+// little less at grazing angles here).
 //
 // Refraction does not scale radiance by 1/eta² (neither does OSPRay): the weights are
 // those of importance transport, so a path that enters and leaves a glass body keeps its
@@ -57,15 +58,23 @@ inline void build(Bsdf& b, const ObjMaterial& material, const ShadingPoint& sp) 
 inline bool reflects(const Fresnel& dielectric) { return dielectric.scale > 0.f && dielectric.eta != 1.f; }
 
 /// A bare dielectric interface of relative index `eta` from wo's side to the other: GGX (or
-/// smooth) reflection and refraction, weighted by `weight`.
+/// smooth) reflection and refraction, weighted by `weight`; rough, also what its
+/// microfacets scatter more than once (as OSPRay's microfacet dielectric).
 inline void add_interface(Bsdf& b, float eta, float specular, float alpha, float weight) {
   const Fresnel fresnel{Fresnel::Kind::dielectric, eta, specular};
-  if (reflects(fresnel))
-    b.add(alpha >= min_alpha ? LobeKind::ggx_reflect : LobeKind::mirror, splat(weight),
-          weight * fresnel(b.wo().z).x, fresnel, alpha);
+  const float cos_o = b.wo().z;
   const bool rough = alpha >= min_alpha && std::abs(eta - 1.f) >= min_eta_contrast;
-  b.add(rough ? LobeKind::ggx_refract : LobeKind::refract, splat(weight), weight * fresnel.transmit(b.wo().z), fresnel,
-        alpha);
+  if (!rough) {
+    if (reflects(fresnel)) b.add(LobeKind::mirror, splat(weight), weight * fresnel(cos_o).x, fresnel, alpha);
+    b.add(LobeKind::refract, splat(weight), weight * fresnel.transmit(cos_o), fresnel, alpha);
+    return;
+  }
+  // Rough: the shares of the microfacets, not of the smooth interface, pick the lobes
+  // (past the critical angle a smooth interface refracts nothing, a rough one much).
+  const float albedo = ggx_dielectric_albedo(cos_o, eta, alpha), up = ggx_dielectric_reflectance(cos_o, eta, alpha);
+  if (reflects(fresnel)) b.add(LobeKind::ggx_reflect, splat(weight), weight * up, fresnel, alpha);
+  b.add(LobeKind::ggx_refract, splat(weight), weight * std::max(albedo - up, 0.f), fresnel, alpha);
+  b.add(LobeKind::dielectric_ms, splat(weight), weight * (1.f - albedo), fresnel, alpha);
 }
 
 inline void build(Bsdf& b, const PrincipledMaterial& m, const ShadingPoint& sp) {
@@ -134,8 +143,12 @@ inline void build(Bsdf& b, const PrincipledMaterial& m, const ShadingPoint& sp) 
         b.add(LobeKind::straight, sheet.t * weight, outer * weight * mean(sheet.t), {}, 0.f, under);
       } else {
         const bool rough = alpha >= min_alpha && std::abs(m.ior - 1.f) >= min_eta_contrast;
-        b.add(rough ? LobeKind::ggx_refract : LobeKind::refract, splat(weight),
-              outer * weight * specular.transmit(cos_o), specular, alpha, under);
+        const float albedo = rough ? ggx_dielectric_albedo(cos_o, m.ior, alpha) : 1.f;
+        const float through = rough ? std::max(albedo - ggx_dielectric_reflectance(cos_o, m.ior, alpha), 0.f)
+                                    : specular.transmit(cos_o);
+        b.add(rough ? LobeKind::ggx_refract : LobeKind::refract, splat(weight), outer * weight * through, specular,
+              alpha, under);
+        if (rough) b.add(LobeKind::dielectric_ms, splat(weight), outer * weight * (1.f - albedo), specular, alpha, under);
       }
     }
   }
@@ -280,6 +293,8 @@ inline Vec3f albedo(const Material& material, const ShadingPoint& sp) {
           return clamp01(m.reflectance + m.horizon_scattering_color);
         } else if constexpr (std::is_same_v<M, MetallicPaintMaterial> || std::is_same_v<M, CarPaintMaterial>) {
           return clamp01(m.base_color * sp.color);
+        } else if constexpr (std::is_same_v<M, PlasticMaterial>) {
+          return clamp01(m.pigment_color);
         } else {
           return splat(1.f);  // glass, thinGlass
         }

@@ -64,6 +64,7 @@ enum class LobeKind {
   sheen,                 ///< tint · Charlie sheen normalised to albedo <= 1, uniform hemisphere sampling
   ggx_reflect,           ///< tint · F · D G2 / (4 cos_o cos_i) (+ multiple scattering for Schlick F), alpha = shape
   ggx_refract,           ///< tint · (1 - F) through GGX microfacets, alpha = shape
+  dielectric_ms,         ///< tint · what a rough interface (alpha = shape, fresnel.eta) scatters more than once
   mirror,                ///< delta: tint · F(cos_o) in the mirror direction
   refract,               ///< delta: tint · (1 - F(cos_o)) in the refracted direction
   straight,              ///< delta: tint, wi = -wo
@@ -264,6 +265,13 @@ inline LobeValue eval_lobe(const Lobe& lobe, const Vec3f& wo, const Vec3f& wi) {
       const float f_cos = lobe.fresnel.transmit(cos_oh) * d_visible * ggx_g2(wo, wi, alpha) * jacobian;
       return {lobe.tint * f_cos, ggx_g1(wo, alpha) * d_visible * jacobian};
     }
+    case LobeKind::dielectric_ms: {
+      if (!(wi.z != 0.f)) return {};
+      const float eta = lobe.fresnel.eta, alpha = lobe.shape;
+      float pdf;
+      const float f_cos = dielectric_multiple_scattering(wo.z, eta, alpha).f_cos(wi.z, eta, alpha, &pdf);
+      return {lobe.tint * f_cos, pdf};
+    }
     case LobeKind::mirror:
     case LobeKind::refract:
     case LobeKind::straight: break;
@@ -302,6 +310,12 @@ inline std::optional<Vec3f> sample_lobe(const Lobe& lobe, const Vec3f& wo, float
       const auto wi = refract(wo, sample_ggx_visible_normal(wo, lobe.shape, u1, u2), lobe.fresnel.eta);
       if (!wi || !(wi->z < 0.f)) return std::nullopt;
       return wi;
+    }
+    case LobeKind::dielectric_ms: {
+      // u1 picks the side by the reflected share, then serves the cosine lobe there.
+      const float reflected = dielectric_multiple_scattering(wo.z, lobe.fresnel.eta, lobe.shape).reflected;
+      if (u1 < reflected) return sample_cosine(u1 / reflected, u2);
+      return -sample_cosine((u1 - reflected) / (1.f - reflected), u2);
     }
     case LobeKind::mirror:
     case LobeKind::refract:

@@ -1,8 +1,8 @@
 #pragma once
-// The lobes of OSPRay's cloth and paint materials (velvet, metallicPaint, carPaint) and
-// carPaint's flakes, for render/bsdf.hpp's make_bsdf. Parameters are read as OSPRay's
-// materials read them: clamped where OSPRay clamps, roughness squared to GGX alpha (at
-// least 1e-3, as OSPRay's), a coat index below 1 inverted.
+// The lobes of OSPRay's cloth, paint and plastic materials (velvet, metallicPaint,
+// carPaint, plastic) and carPaint's flakes, for render/bsdf.hpp's make_bsdf. Parameters are
+// read as OSPRay's materials read them: clamped where OSPRay clamps, roughness squared to
+// GGX alpha (at least 1e-3, as OSPRay's), a coat index below 1 inverted.
 //
 // carPaint's flakes: the hit point, in cells of 1/flakeScale world units, finds the
 // nearest of the cells' jittered feature points (Worley's cellular noise, as OSPRay's,
@@ -90,19 +90,22 @@ inline void build(Bsdf& b, const VelvetMaterial& m, const ShadingPoint&) {
         m.horizon_scattering_fall_off);
 }
 
-/// A smooth clear coat of weight `coat` and index `ior` over the lobes added after it with
-/// `below_coat`; absorbing towards `color` over `thickness`. The layers they lie under.
-inline unsigned add_smooth_coat(Bsdf& b, float coat, float ior, const Vec3f& color, float thickness) {
+/// A clear coat of weight `coat`, index `ior` and `roughness` (below paint_epsilon:
+/// smooth) over the lobes added after it with `below_coat`; absorbing towards `color` over
+/// `thickness`. The layers they lie under.
+inline unsigned add_coat(Bsdf& b, float coat, float ior, const Vec3f& color, float thickness, float roughness = 0.f) {
   b.coat = coat, b.coat_eta = ior, b.coat_color = color, b.coat_thickness = thickness;
   const Fresnel fresnel{Fresnel::Kind::dielectric, ior, 1.f};
-  b.add(LobeKind::mirror, splat(coat), coat * fresnel(b.wo().z).x, fresnel);
+  const bool smooth = roughness < paint_epsilon;
+  b.add(smooth ? LobeKind::mirror : LobeKind::ggx_reflect, splat(coat), coat * fresnel(b.wo().z).x, fresnel,
+        smooth ? 0.f : paint_alpha(roughness));
   return below_coat;
 }
 
 inline void build(Bsdf& b, const MetallicPaintMaterial& m, const ShadingPoint& sp) {
   const float cos_o = b.wo().z;
   // OSPRay's layer takes eta and 1/eta alike.
-  const unsigned under = add_smooth_coat(b, 1.f, m.eta >= 1.f ? m.eta : 1.f / m.eta, splat(1.f), 1.f);
+  const unsigned under = add_coat(b, 1.f, m.eta >= 1.f ? m.eta : 1.f / m.eta, splat(1.f), 1.f);
   const float outer = b.outer(under);
   const Vec3f color = m.base_color * sp.color * (1.f - m.flake_amount);
   b.add(LobeKind::lambert, color, outer * mean(color), {}, 0.f, under);
@@ -131,15 +134,7 @@ inline void build(Bsdf& b, const CarPaintMaterial& m, const ShadingPoint& sp) {
       const float toward = std::pow(1.f - std::max(dot(wo, *flake), 0.f), 1.f / (1.f - falloff));
       color = lerp(color, clamp01(m.flipflop_color), toward);
     }
-    const float thickness = std::max(m.coat_thickness, 0.f), roughness = std::max(m.coat_roughness, 0.f);
-    if (roughness < paint_epsilon) {
-      under = add_smooth_coat(b, coat, ior, color, thickness);
-    } else {
-      b.coat = coat, b.coat_eta = ior, b.coat_color = color, b.coat_thickness = thickness;
-      const Fresnel fresnel{Fresnel::Kind::dielectric, ior, 1.f};
-      b.add(LobeKind::ggx_reflect, splat(coat), coat * fresnel(b.wo().z).x, fresnel, paint_alpha(roughness));
-      under = below_coat;
-    }
+    under = add_coat(b, coat, ior, color, std::max(m.coat_thickness, 0.f), std::max(m.coat_roughness, 0.f));
   }
   const float outer = b.outer(under);
 
@@ -164,6 +159,14 @@ inline void build(Bsdf& b, const CarPaintMaterial& m, const ShadingPoint& sp) {
   const float roughness = std::max(m.roughness, 0.f);
   b.add(roughness < paint_epsilon ? LobeKind::lambert : LobeKind::oren_nayar, base, outer * mean(base), {}, roughness,
         under, frame);
+}
+
+inline void build(Bsdf& b, const PlasticMaterial& m, const ShadingPoint&) {
+  // OSPRay's plastic is smooth at roughness 0 exactly; its layer takes eta and 1/eta alike.
+  const float ior = m.eta >= 1.f ? m.eta : 1.f / m.eta;
+  const unsigned under =
+      add_coat(b, 1.f, ior, splat(1.f), 1.f, m.roughness > 0.f ? std::max(m.roughness, paint_epsilon) : 0.f);
+  b.add(LobeKind::lambert, m.pigment_color, b.outer(under) * mean(m.pigment_color), {}, 0.f, under);
 }
 
 }  // namespace sciray::bsdf_detail

@@ -166,16 +166,26 @@ struct CarPaintMaterial {
   NormalMap map_coat_normal{};  ///< tilts the coat
 };
 
+/// OSPRay `plastic`: a Lambertian `pigmentColor` under a clear coat of index `eta`, GGX
+/// rough by `roughness` (0: smooth). The geometry's colour plays no part.
+struct PlasticMaterial {
+  Vec3f pigment_color{1.f, 1.f, 1.f};
+  float eta = 1.4f;
+  float roughness = 0.01f;
+};
+
 /// The material index of geometries added without one: they show their own colours,
 /// 0.8 grey where they have none.
 inline constexpr std::uint32_t no_material = 0xffffffffu;
 
 using Material = std::variant<ObjMaterial, PrincipledMaterial, GlassMaterial, ThinGlassMaterial, MetalMaterial,
-                              AlloyMaterial, LuminousMaterial, VelvetMaterial, MetallicPaintMaterial, CarPaintMaterial>;
+                              AlloyMaterial, LuminousMaterial, VelvetMaterial, MetallicPaintMaterial, CarPaintMaterial,
+                              PlasticMaterial>;
 
 /// OSPRay's names of the material types, in the order of Material's alternatives.
 inline constexpr std::array<const char*, std::variant_size_v<Material>> material_type_names = {
-    "obj", "principled", "glass", "thinGlass", "metal", "alloy", "luminous", "velvet", "metallicPaint", "carPaint"};
+    "obj",   "principled",    "glass",    "thinGlass", "metal",  "alloy",
+    "luminous", "velvet", "metallicPaint", "carPaint", "plastic"};
 
 /// The names of every material type, comma-separated: for messages.
 inline std::string material_type_list() {
@@ -239,6 +249,8 @@ void parameters_of(M& m, Read&& read) {
     read("coatColor", m.coat_color), read("coatThickness", m.coat_thickness);
     read("coatRoughness", m.coat_roughness), read("coatNormal", m.coat_normal);
     read("flipflopColor", m.flipflop_color), read("flipflopFalloff", m.flipflop_falloff);
+  } else if constexpr (std::is_same_v<T, PlasticMaterial>) {
+    read("pigmentColor", m.pigment_color), read("eta", m.eta), read("roughness", m.roughness);
   }
 }
 
@@ -470,7 +482,7 @@ inline ObjMaterial energy_conserving(ObjMaterial m) {
 }
 
 /// What the scivis and ao renderers see of any material: diffuse and specular colour,
-/// shininess, opacity and transmissive filter. Of velvet, metallicPaint and carPaint they
+/// shininess, opacity and transmissive filter. Of velvet, metallicPaint, carPaint and plastic they
 /// see what OSPRay's scivis sees of every material but obj: an opaque white diffuse
 /// surface, which the geometry's colours tint.
 inline ObjMaterial obj_view(const Material& material) {
@@ -617,6 +629,10 @@ inline void validate(const Material& material) {
           require(std::isfinite(m.coat_normal), type, "coatNormal", "must be finite");
           require(finite_non_negative(m.flipflop_color), type, "flipflopColor", "must be finite and not negative");
           require(in_unit(m.flipflop_falloff), type, "flipflopFalloff", "must be in [0, 1]");
+        } else if constexpr (std::is_same_v<M, PlasticMaterial>) {
+          require(finite_non_negative(m.pigment_color), type, "pigmentColor", "must be finite and not negative");
+          require(positive(m.eta), type, "eta", "must be positive");
+          require(non_negative(m.roughness), type, "roughness", "must be finite and not negative");
         }
         detail::maps_of(m, [&](const char* name, const TextureMap& map) {
           require(map.transform.finite(), type, name, "has a transform that is not finite");

@@ -17,6 +17,7 @@
 #include <limits>
 #include <numbers>
 #include <optional>
+#include <utility>
 
 #include "sciray/math/vec.hpp"
 
@@ -202,7 +203,7 @@ inline std::optional<Vec3f> refract(const Vec3f& wo, const Vec3f& h, float eta) 
 /// A table over roughness (√alpha) and cbrt(cos θo) in [0, 1]², `cells` intervals each,
 /// bilinearly interpolated (the albedos change fastest at grazing angles).
 template <int cells>
-float interpolate_table(const std::array<float, (cells + 1) * (cells + 1)>& table, float roughness, float cos_o) {
+float interpolate_table(const float* table, float roughness, float cos_o) {
   const float x = std::clamp(roughness, 0.f, 1.f) * cells;
   const float y = std::cbrt(std::clamp(cos_o, 0.f, 1.f)) * cells;
   const int i = std::min(static_cast<int>(x), cells - 1), j = std::min(static_cast<int>(y), cells - 1);
@@ -252,7 +253,7 @@ struct GgxAlbedoTable {
 
 /// E(θo) of a white GGX lobe of `alpha` (see GgxAlbedoTable).
 inline float ggx_albedo(float cos_o, float alpha) {
-  return interpolate_table<GgxAlbedoTable::cells>(GgxAlbedoTable::get().albedo, std::sqrt(alpha), cos_o);
+  return interpolate_table<GgxAlbedoTable::cells>(GgxAlbedoTable::get().albedo.data(), std::sqrt(alpha), cos_o);
 }
 /// 2 ∫ E(μ) μ dμ of a white GGX lobe of `alpha`.
 inline float ggx_average_albedo(float alpha) {
@@ -260,6 +261,121 @@ inline float ggx_average_albedo(float alpha) {
   const float x = std::clamp(std::sqrt(alpha), 0.f, 1.f) * GgxAlbedoTable::cells;
   const int i = std::min(static_cast<int>(x), GgxAlbedoTable::cells - 1);
   return average[i] + (average[i + 1] - average[i]) * (x - static_cast<float>(i));
+}
+
+/// Directional albedo E(θo) of a rough dielectric interface of relative index eta =
+/// n(far side) / n(near side) in [1/3, 3] (GGX reflection plus refraction, single
+/// scattering, refracted radiance not scaled by 1/eta² as sciray's refraction), the part
+/// of it reflected, and its cosine-weighted average: tabulated on first use over ln(eta),
+/// √alpha and cbrt(cos θo), each entry the mean of F G2/G1 (reflected) plus (1 - F) G2/G1
+/// (refracted) over a stratified grid of visible normals.
+struct GgxDielectricAlbedoTable {
+  static constexpr int etas = 16, cells = 16, strata = 16;
+  static constexpr float log_max_eta = 1.0986123f;  // ln 3: OSPRay clamps eta to [1/3, 3] too
+  static constexpr int slice = (cells + 1) * (cells + 1);
+  std::array<float, (etas + 1) * slice> albedo{}, reflected{};
+  std::array<float, (etas + 1) * (cells + 1)> average{};
+
+  static float eta_at(int k) { return std::exp(log_max_eta * (2.f * static_cast<float>(k) / etas - 1.f)); }
+  GgxDielectricAlbedoTable() {
+    for (int k = 0; k <= etas; ++k) {
+      const float eta = eta_at(k);
+      for (int i = 0; i <= cells; ++i) {
+        const float roughness = static_cast<float>(i) / cells, alpha = std::max(roughness * roughness, 1e-4f);
+        double weighted = 0.;
+        for (int j = 0; j <= cells; ++j) {
+          const float s = static_cast<float>(j) / cells;
+          const float c_o = std::max(s * s * s, min_cos);
+          const Vec3f wo{std::sqrt(1.f - c_o * c_o), 0.f, c_o};
+          const float g1 = ggx_g1(wo, alpha);
+          double up = 0., through = 0.;
+          for (int a = 0; a < strata; ++a)
+            for (int b = 0; b < strata; ++b) {
+              const float u1 = (static_cast<float>(a) + 0.5f) / strata, u2 = (static_cast<float>(b) + 0.5f) / strata;
+              const Vec3f h = sample_ggx_visible_normal(wo, alpha, u1, u2);
+              const float f = fresnel_dielectric(dot(wo, h), eta);
+              if (const Vec3f wi = reflect(wo, h); wi.z > 0.f) up += f * ggx_g2(wo, wi, alpha) / g1;
+              if (const auto wi = refract(wo, h, eta); wi && wi->z < 0.f) through += (1.f - f) * ggx_g2(wo, *wi, alpha) / g1;
+            }
+          const float e = static_cast<float>((up + through) / (strata * strata));
+          albedo[k * slice + i * (cells + 1) + j] = e;
+          reflected[k * slice + i * (cells + 1) + j] = static_cast<float>(up / (strata * strata));
+          const double simpson = j == 0 || j == cells ? 1. : (j % 2 ? 4. : 2.);
+          weighted += simpson * e * 6. * s * s * s * s * s / (3. * cells);
+        }
+        average[k * (cells + 1) + i] = static_cast<float>(weighted);
+      }
+    }
+  }
+  static const GgxDielectricAlbedoTable& get() {
+    static const GgxDielectricAlbedoTable table;
+    return table;
+  }
+  /// The eta slices around eta and the weight of the upper one.
+  static std::pair<int, float> eta_cell(float eta) {
+    const float x = std::clamp((std::log(eta) / log_max_eta + 1.f) * 0.5f, 0.f, 1.f) * etas;
+    const int k = std::min(static_cast<int>(x), etas - 1);
+    return {k, x - static_cast<float>(k)};
+  }
+};
+
+/// An entry of one of GgxDielectricAlbedoTable's tables, interpolated.
+inline float interpolate_dielectric(const std::array<float, (GgxDielectricAlbedoTable::etas + 1) *
+                                                            GgxDielectricAlbedoTable::slice>& table,
+                                    float cos_o, float eta, float alpha) {
+  const auto [k, w] = GgxDielectricAlbedoTable::eta_cell(eta);
+  const float r = std::sqrt(alpha);
+  constexpr int cells = GgxDielectricAlbedoTable::cells, slice = GgxDielectricAlbedoTable::slice;
+  return (1.f - w) * interpolate_table<cells>(table.data() + k * slice, r, cos_o) +
+         w * interpolate_table<cells>(table.data() + (k + 1) * slice, r, cos_o);
+}
+/// E(θo) of a rough dielectric interface (see GgxDielectricAlbedoTable).
+inline float ggx_dielectric_albedo(float cos_o, float eta, float alpha) {
+  return interpolate_dielectric(GgxDielectricAlbedoTable::get().albedo, cos_o, eta, alpha);
+}
+/// The part of E(θo) a rough dielectric interface reflects.
+inline float ggx_dielectric_reflectance(float cos_o, float eta, float alpha) {
+  return interpolate_dielectric(GgxDielectricAlbedoTable::get().reflected, cos_o, eta, alpha);
+}
+/// 2 ∫ E(μ) μ dμ of a rough dielectric interface.
+inline float ggx_dielectric_average_albedo(float eta, float alpha) {
+  const auto& t = GgxDielectricAlbedoTable::get();
+  const auto [k, w] = GgxDielectricAlbedoTable::eta_cell(eta);
+  constexpr int cells = GgxDielectricAlbedoTable::cells;
+  const float x = std::clamp(std::sqrt(alpha), 0.f, 1.f) * cells;
+  const int i = std::min(static_cast<int>(x), cells - 1);
+  const float f = x - static_cast<float>(i);
+  const auto at = [&](int kk, int ii) { return t.average[kk * (cells + 1) + ii]; };
+  return (1.f - w) * ((1.f - f) * at(k, i) + f * at(k, i + 1)) + w * ((1.f - f) * at(k + 1, i) + f * at(k + 1, i + 1));
+}
+
+/// The energy a rough dielectric interface loses to multiple scattering between its
+/// microfacets, given back as cosine lobes on both sides (Kulla & Conty 2017, as OSPRay's
+/// microfacet dielectric): of what is lost for wo, 1 - E(θo), the share `reflected` goes
+/// back to wo's side, the rest through, each shaped by 1 - E of the direction it leaves by.
+struct DielectricMultipleScattering {
+  float reflected;  ///< the share reflected, from the average Fresnel and albedos of both sides
+  float e_o;        ///< E(θo)
+  /// f·cos θi towards wi (cos_i < 0: through) and the pdf of sampling the side, then the
+  /// cosine lobe.
+  float f_cos(float cos_i, float eta, float alpha, float* pdf) const {
+    const bool through = cos_i < 0.f;
+    const float side_eta = through ? 1.f / eta : eta, c = std::abs(cos_i);
+    const float share = through ? 1.f - reflected : reflected;
+    *pdf = share * c / pi;
+    const float e_average = ggx_dielectric_average_albedo(side_eta, alpha);
+    if (!(e_average < 1.f - 1e-4f)) return 0.f;
+    return share * (1.f - e_o) * (1.f - ggx_dielectric_albedo(c, side_eta, alpha)) * c / (pi * (1.f - e_average));
+  }
+};
+inline DielectricMultipleScattering dielectric_multiple_scattering(float cos_o, float eta, float alpha) {
+  const float f_eta = fresnel_dielectric_average(eta), f_inverse = fresnel_dielectric_average(1.f / eta);
+  const float e_eta = ggx_dielectric_average_albedo(eta, alpha), e_inverse = ggx_dielectric_average_albedo(1.f / eta, alpha);
+  // OSPRay's split (Kulla & Conty's, without the 1/eta² of radiance): what is reflected
+  // balances what crosses from either side.
+  const float a = (1.f - f_eta) / std::max(1.f - e_inverse, 1e-4f), b = (1.f - f_inverse) / std::max(1.f - e_eta, 1e-4f);
+  const float x = b / (a + b);
+  return {std::clamp(1.f - x * (1.f - f_eta), 0.f, 1.f), ggx_dielectric_albedo(cos_o, eta, alpha)};
 }
 
 /// f·cos θi of the energy a GGX reflection lobe of average Fresnel `f_average` loses to
@@ -339,7 +455,7 @@ inline float sheen_albedo(float cos_o, float roughness) {
     }
     return t;
   }();
-  return interpolate_table<cells>(table, roughness, cos_o);
+  return interpolate_table<cells>(table.data(), roughness, cos_o);
 }
 
 }  // namespace sciray::bsdf_detail
