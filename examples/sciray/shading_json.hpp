@@ -50,6 +50,13 @@ public:
       throw sciray::Error(what_ + ": \"" + key + "\" must be a number or an array of 3 numbers");
     v = {a[0].get<float>(), a[1].get<float>(), a[2].get<float>()};
   }
+  /// A colour whose absence means something (carPaint's flakeColor): set only when given.
+  void read(const char* key, std::optional<sciray::Vec3f>& v) {
+    if (!j_.contains(key)) return take(key), void();
+    sciray::Vec3f c;
+    read(key, c);
+    v = c;
+  }
   void read(const char* key, sciray::TexCoord<float>& v) {
     if (!take(key)) return;
     const auto& a = j_[key];
@@ -129,8 +136,7 @@ inline sciray::Material material_from_json(const nlohmann::json& j, const std::s
   const std::string type = p.type();
   std::optional<sciray::Material> material = sciray::material_of_type(type);
   if (!material)
-    throw sciray::Error(what + ": unknown material type '" + type +
-                        "' (obj, principled, glass, thinGlass, metal, alloy, luminous)");
+    throw sciray::Error(what + ": unknown material type '" + type + "' (" + sciray::material_type_list() + ")");
   sciray::for_each_parameter(*material, [&](const char* key, auto& field) { p.read(key, field); });
   sciray::for_each_map(*material, [&](const char* key, sciray::TextureMap& map) {
     const std::string name = key;

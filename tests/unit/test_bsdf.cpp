@@ -9,51 +9,14 @@
 
 #include "sciray/math/random.hpp"
 #include "sciray/render/bsdf.hpp"
+#include "support/bsdf_checks.hpp"
 
 using namespace sciray;
+using namespace sciray_test;
 
 namespace {
 
-constexpr float pi = std::numbers::pi_v<float>;
 constexpr float grazing_angles[] = {0.f, 30.f, 60.f, 75.f, 85.f};
-
-ShadingPoint flat(bool entering = true) {
-  ShadingPoint sp;
-  sp.n = sp.ng = {0.f, 0.f, 1.f};
-  sp.entering = entering;
-  return sp;
-}
-
-/// A unit direction `degrees` away from +z.
-Vec3f at_angle(float degrees, float phi = 0.7f) {
-  const float theta = degrees * pi / 180.f;
-  return {std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta)};
-}
-
-bool finite(const Vec3f& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
-
-/// Mean and its standard error of a channel of sample weights.
-struct Estimate {
-  double mean[3] = {}, standard_error[3] = {};
-};
-
-/// Directional albedo for wo as the mean sample weight (absorbed samples count as 0).
-Estimate sampled_albedo(const Material& m, const ShadingPoint& sp, const Vec3f& wo, int n, std::uint64_t seed) {
-  Pcg32 rng(seed, 7);
-  double sum[3] = {}, sum2[3] = {};
-  for (int i = 0; i < n; ++i) {
-    const float u = rng.next_float(), u1 = rng.next_float(), u2 = rng.next_float();
-    const auto s = sample(m, sp, wo, u, u1, u2);
-    if (!s) continue;
-    for (int c = 0; c < 3; ++c) sum[c] += s->weight[c], sum2[c] += double(s->weight[c]) * s->weight[c];
-  }
-  Estimate e;
-  for (int c = 0; c < 3; ++c) {
-    e.mean[c] = sum[c] / n;
-    e.standard_error[c] = std::sqrt(std::max(0., sum2[c] / n - e.mean[c] * e.mean[c]) / n);
-  }
-  return e;
-}
 
 PrincipledMaterial principled(float roughness) {
   PrincipledMaterial p;
@@ -116,6 +79,27 @@ std::vector<NamedMaterial> material_corners() {
   add("thinGlass", ThinGlassMaterial{});
   add("thinGlass absorbing", ThinGlassMaterial{1.5f, {0.2f, 0.5f, 0.9f}, 0.5f, 1.f});
   add("luminous transparent", LuminousMaterial{{1.f, 1.f, 1.f}, 3.f, 0.6f});
+  // OSPRay's velvet adds its two lobes unnormalised: white only where their colours sum to 1.
+  add("velvet", VelvetMaterial{{0.5f, 0.5f, 0.5f}, 0.f, {0.5f, 0.5f, 0.5f}, 0.f});
+  add("velvet backscattering", VelvetMaterial{{0.7f, 0.7f, 0.7f}, 3.f, {0.3f, 0.3f, 0.3f}, 20.f});
+  for (const float amount : {0.f, 0.3f, 1.f})
+    for (const float spread : {0.f, 0.5f, 1.f})
+      add("metallicPaint amount " + std::to_string(amount).substr(0, 3) + " spread " + std::to_string(spread).substr(0, 3),
+          MetallicPaintMaterial{{1.f, 1.f, 1.f}, amount, {1.f, 1.f, 1.f}, spread, 1.5f});
+  for (const float roughness : {0.f, 0.5f, 1.f}) {
+    const std::string at = " roughness " + std::to_string(roughness).substr(0, 3);
+    CarPaintMaterial paint;
+    paint.base_color = {1.f, 1.f, 1.f}, paint.roughness = roughness, paint.coat_roughness = roughness;
+    add("carPaint" + at, paint);
+    paint.flake_density = 1.f, paint.flake_roughness = roughness, paint.flake_color = Vec3f{1.f, 1.f, 1.f};
+    add("carPaint all flakes" + at, paint);
+    paint.flake_density = 0.5f, paint.flake_color.reset(), paint.flipflop_falloff = 0.f;
+    add("carPaint aluminium flakes, flipflop" + at, paint);
+    add("plastic" + at, PlasticMaterial{{1.f, 1.f, 1.f}, 1.4f, roughness});
+    auto backlit = principled(roughness);
+    backlit.thin = true, backlit.backlight = 1.f, backlit.transmission = 0.3f;
+    add("principled backlight" + at, backlit);
+  }
   return all;
 }
 

@@ -324,8 +324,8 @@ TEST_CASE("bad lights, materials, textures and renderer parameters are named", "
   ApiFixture api;
   CHECK(ospNewLight("photometric") == nullptr);
   api.expect_error("unknown light type 'photometric' (sciray supports: ambient, distant, sphere, spot, quad, cylinder, hdri, sunSky)");
-  CHECK(ospNewMaterial("velvet") == nullptr);
-  api.expect_error("unknown material type 'velvet'");
+  CHECK(ospNewMaterial("chalk") == nullptr);
+  api.expect_error("unknown material type 'chalk'");
 
   OSPLight quad = ospNewLight("quad");
   ospSetVec3f(quad, "edge2", 1.f, 0.f, 0.f);  // parallel to the default edge1

@@ -327,9 +327,7 @@ OSPVolumetricModel ospNewVolumetricModel(OSPVolume volume) {
 OSPMaterial ospNewMaterial(const char* type) {
   return guarded("ospNewMaterial", [&] {
     const std::string t = type_string(type);
-    if (t != "obj" && t != "principled" && t != "glass" && t != "thinGlass" && t != "metal" && t != "alloy" &&
-        t != "luminous")
-      unknown_type("material", t, "obj, principled, glass, thinGlass, metal, alloy, luminous");
+    if (!sciray::material_of_type(t)) unknown_type("material", t, sciray::material_type_list().c_str());
     return handle_of<OSPMaterial>(new Material(t));
   }, OSPMaterial{});
 }

@@ -77,7 +77,7 @@ void Material::on_commit() {
     if (!has(parameter))
       for_each_parameter(material, [&](const char* p, auto& field) {
         using Field = std::remove_reference_t<decltype(field)>;
-        if constexpr (std::is_same_v<Field, Vec3f>) {
+        if constexpr (std::is_same_v<Field, Vec3f> || std::is_same_v<Field, std::optional<Vec3f>>) {
           if (p == parameter) field = splat(1.f);
         } else if constexpr (std::is_same_v<Field, float>) {
           if (p == parameter) field = 1.f;
@@ -128,10 +128,12 @@ Affine3f Material::volume_transform(const std::string& map) const {
 
 sciray::Material Material::material() const {
   sciray::Material m = material_;
+  // Only obj and principled have an opacity that their colour map's alpha scales.
+  const bool has_opacity = std::holds_alternative<ObjMaterial>(m) || std::holds_alternative<PrincipledMaterial>(m);
   for_each_map(m, [&](const char* id, TextureMap& map) {
     for (const ImageMap& image : image_maps_)
       if (image.name == id) {
-        const bool alpha_is_opacity = image.name == "map_kd" || image.name == "map_baseColor";
+        const bool alpha_is_opacity = has_opacity && (image.name == "map_kd" || image.name == "map_baseColor");
         map = {image.texture->image(), image.transform, alpha_is_opacity ? image.texture->alpha_image() : nullptr};
       }
   });

@@ -147,13 +147,15 @@ protected:
   std::optional<std::uint32_t> get_user_id() const;
   Vec3f get_vec3f(const std::string& id, Vec3f fallback) const;
   /// Reads a float, bool or vec3f parameter into `field`, which keeps its value where the
-  /// parameter is unset.
+  /// parameter is unset (an optional vec3f stays empty).
   template <class T>
   void read_into(const std::string& id, T& field) const {
     if constexpr (std::is_same_v<T, float>)
       field = get_float(id, field);
     else if constexpr (std::is_same_v<T, bool>)
       field = get_bool(id, field);
+    else if constexpr (std::is_same_v<T, std::optional<Vec3f>>)
+      field = has(id) ? std::optional<Vec3f>(get_vec3f(id, {})) : field;
     else
       field = get_vec3f(id, field);
   }

@@ -14,6 +14,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <variant>
 
 #include "sciray/error.hpp"
@@ -48,10 +49,11 @@ struct PrincipledMaterial {
   float ior = 1.5f;
   float transmission = 0.f;
   Vec3f transmission_color{1.f, 1.f, 1.f};
-  float transmission_depth = 1.f;
+  float transmission_depth = 1.f;  ///< 0 absorbs all but channels of transmissionColor 1
   float roughness = 0.f;
   bool thin = false;
   float thickness = 1.f;
+  float backlight = 0.f;  ///< thin only: in [0, 2], half of it is the diffuse part transmitted (1: as much as reflected)
   float coat = 0.f;
   float coat_ior = 1.5f;
   Vec3f coat_color{1.f, 1.f, 1.f};
@@ -82,6 +84,7 @@ struct ThinGlassMaterial {
   Vec3f attenuation_color{1.f, 1.f, 1.f};
   float attenuation_distance = 1.f;
   float thickness = 1.f;
+  TextureMap map_attenuation_color{};
 };
 
 /// OSPRay `metal`: a conductor with complex index of refraction eta + i k per RGB channel
@@ -90,6 +93,7 @@ struct MetalMaterial {
   Vec3f eta{1.5f, 0.98f, 0.6f};
   Vec3f k{7.6f, 6.6f, 5.4f};
   float roughness = 0.1f;
+  TextureMap map_roughness{};
 };
 
 /// OSPRay `alloy`: a conductor given by its colour at normal incidence and at the edge.
@@ -97,6 +101,7 @@ struct AlloyMaterial {
   Vec3f color{0.9f, 0.9f, 0.9f};
   Vec3f edge_color{1.f, 1.f, 1.f};
   float roughness = 0.1f;
+  TextureMap map_color{}, map_edge_color{}, map_roughness{};
 };
 
 /// OSPRay `luminous`: emits `color * intensity` (times `map_color`) from both faces;
@@ -109,30 +114,101 @@ struct LuminousMaterial {
   TextureMap map_color{};
 };
 
+/// OSPRay `velvet`: a Minnaert lobe of `reflectance` whose `backScattering` exponent
+/// bends it towards the viewer, plus a lobe of `horizonScatteringColor` that grows as
+/// sin(θo)^horizonScatteringFallOff towards grazing views (both cosine-weighted, not
+/// normalised: their albedos add, as in OSPRay). The geometry's colour plays no part.
+struct VelvetMaterial {
+  Vec3f reflectance{0.4f, 0.f, 0.f};
+  float back_scattering = 0.5f;
+  Vec3f horizon_scattering_color{0.75f, 0.1f, 0.1f};
+  float horizon_scattering_fall_off = 10.f;
+};
+
+/// OSPRay `metallicPaint`: a Lambertian base of `baseColor` (1 - flakeAmount) and GGX
+/// aluminium flakes (Schlick from flakeColor·flakeAmount at normal incidence to
+/// flakeAmount at grazing, roughness `flakeSpread`) under a smooth clear coat of index `eta`.
+struct MetallicPaintMaterial {
+  Vec3f base_color{0.8f, 0.8f, 0.8f};
+  float flake_amount = 0.3f;
+  Vec3f flake_color{0.909f, 0.916f, 0.923f};  ///< aluminium's reflectance at normal incidence
+  float flake_spread = 0.5f;
+  float eta = 1.5f;
+  TextureMap map_base_color{};
+};
+
+/// OSPRay `carPaint`: a diffuse base (Lambertian, Oren–Nayar for `roughness` > 0) with
+/// metallic flakes in it, under a clear coat. The flakes are cells of a jittered 3D grid
+/// of `flakeScale` cells per world unit around the hit point; a cell holds a flake with
+/// probability `flakeDensity`, tilted by a Beckmann normal of roughness `flakeSpread`, and
+/// where a flake is the base is not: the flake reflects as aluminium (`flakeColor` unset)
+/// or as Schlick from flakeColor to white, GGX of `flakeRoughness`. Over a flake the coat
+/// turns from coatColor to `flipflopColor` at grazing angles, the faster the lower
+/// `flipflopFalloff` (1: never).
+struct CarPaintMaterial {
+  Vec3f base_color{0.8f, 0.8f, 0.8f};
+  float roughness = 0.f;
+  float normal = 1.f;  ///< how strongly map_normal tilts the base's normal
+  std::optional<Vec3f> flake_color{};
+  float flake_scale = 100.f;
+  float flake_density = 0.f;
+  float flake_spread = 0.3f;
+  float flake_jitter = 0.75f;
+  float flake_roughness = 0.3f;
+  float coat = 1.f;
+  float coat_ior = 1.5f;
+  Vec3f coat_color{1.f, 1.f, 1.f};
+  float coat_thickness = 1.f;
+  float coat_roughness = 0.f;
+  float coat_normal = 1.f;  ///< how strongly map_coatNormal tilts the coat's normal
+  Vec3f flipflop_color{1.f, 1.f, 1.f};
+  float flipflop_falloff = 1.f;
+  TextureMap map_base_color{}, map_roughness{}, map_flake_color{}, map_flake_scale{}, map_flake_density{},
+      map_flake_spread{}, map_flake_jitter{}, map_flake_roughness{}, map_coat{}, map_coat_ior{}, map_coat_color{},
+      map_coat_thickness{}, map_coat_roughness{}, map_flipflop_color{}, map_flipflop_falloff{};
+  NormalMap map_normal{};       ///< tilts the base (not the flakes, not the coat)
+  NormalMap map_coat_normal{};  ///< tilts the coat
+};
+
+/// OSPRay `plastic`: a Lambertian `pigmentColor` under a clear coat of index `eta`, GGX
+/// rough by `roughness` (0: smooth). The geometry's colour plays no part.
+struct PlasticMaterial {
+  Vec3f pigment_color{1.f, 1.f, 1.f};
+  float eta = 1.4f;
+  float roughness = 0.01f;
+};
+
 /// The material index of geometries added without one: they show their own colours,
 /// 0.8 grey where they have none.
 inline constexpr std::uint32_t no_material = 0xffffffffu;
 
 using Material = std::variant<ObjMaterial, PrincipledMaterial, GlassMaterial, ThinGlassMaterial, MetalMaterial,
-                              AlloyMaterial, LuminousMaterial>;
+                              AlloyMaterial, LuminousMaterial, VelvetMaterial, MetallicPaintMaterial, CarPaintMaterial,
+                              PlasticMaterial>;
 
-/// OSPRay's name of a material's type.
-inline const char* type_name(const Material& m) {
-  static constexpr const char* names[] = {"obj", "principled", "glass", "thinGlass", "metal", "alloy", "luminous"};
-  return names[m.index()];
+/// OSPRay's names of the material types, in the order of Material's alternatives.
+inline constexpr std::array<const char*, std::variant_size_v<Material>> material_type_names = {
+    "obj",   "principled",    "glass",    "thinGlass", "metal",  "alloy",
+    "luminous", "velvet", "metallicPaint", "carPaint", "plastic"};
+
+/// The names of every material type, comma-separated: for messages.
+inline std::string material_type_list() {
+  std::string list;
+  for (const char* name : material_type_names) list += (list.empty() ? "" : ", ") + std::string(name);
+  return list;
 }
 
-/// A default material of OSPRay type `type` (obj, principled, glass, thinGlass, metal,
-/// alloy, luminous); nullopt for another name.
+/// OSPRay's name of a material's type.
+inline const char* type_name(const Material& m) { return material_type_names[m.index()]; }
+
+/// A default material of OSPRay type `type` (one of material_type_names); nullopt for
+/// another name.
 inline std::optional<Material> material_of_type(std::string_view type) {
-  if (type == "obj") return ObjMaterial{};
-  if (type == "principled") return PrincipledMaterial{};
-  if (type == "glass") return GlassMaterial{};
-  if (type == "thinGlass") return ThinGlassMaterial{};
-  if (type == "metal") return MetalMaterial{};
-  if (type == "alloy") return AlloyMaterial{};
-  if (type == "luminous") return LuminousMaterial{};
-  return std::nullopt;
+  std::optional<Material> result;
+  [&]<std::size_t... I>(std::index_sequence<I...>) {
+    ((type == material_type_names[I] ? void(result.emplace(std::in_place_index<I>)) : void()), ...);
+  }(std::make_index_sequence<std::variant_size_v<Material>>{});
+  return result;
 }
 
 namespace detail {
@@ -147,7 +223,7 @@ void parameters_of(M& m, Read&& read) {
     read("diffuse", m.diffuse), read("specular", m.specular), read("ior", m.ior);
     read("transmission", m.transmission), read("transmissionColor", m.transmission_color);
     read("transmissionDepth", m.transmission_depth), read("roughness", m.roughness), read("thin", m.thin);
-    read("thickness", m.thickness), read("coat", m.coat), read("coatIor", m.coat_ior);
+    read("thickness", m.thickness), read("backlight", m.backlight), read("coat", m.coat), read("coatIor", m.coat_ior);
     read("coatColor", m.coat_color), read("coatThickness", m.coat_thickness);
     read("coatRoughness", m.coat_roughness), read("sheen", m.sheen), read("sheenColor", m.sheen_color);
     read("sheenTint", m.sheen_tint), read("sheenRoughness", m.sheen_roughness), read("opacity", m.opacity);
@@ -162,6 +238,23 @@ void parameters_of(M& m, Read&& read) {
     read("color", m.color), read("edgeColor", m.edge_color), read("roughness", m.roughness);
   } else if constexpr (std::is_same_v<T, LuminousMaterial>) {
     read("color", m.color), read("intensity", m.intensity), read("transparency", m.transparency);
+  } else if constexpr (std::is_same_v<T, VelvetMaterial>) {
+    read("reflectance", m.reflectance), read("backScattering", m.back_scattering);
+    read("horizonScatteringColor", m.horizon_scattering_color);
+    read("horizonScatteringFallOff", m.horizon_scattering_fall_off);
+  } else if constexpr (std::is_same_v<T, MetallicPaintMaterial>) {
+    read("baseColor", m.base_color), read("flakeAmount", m.flake_amount), read("flakeColor", m.flake_color);
+    read("flakeSpread", m.flake_spread), read("eta", m.eta);
+  } else if constexpr (std::is_same_v<T, CarPaintMaterial>) {
+    read("baseColor", m.base_color), read("roughness", m.roughness), read("normal", m.normal);
+    read("flakeColor", m.flake_color), read("flakeScale", m.flake_scale), read("flakeDensity", m.flake_density);
+    read("flakeSpread", m.flake_spread), read("flakeJitter", m.flake_jitter);
+    read("flakeRoughness", m.flake_roughness), read("coat", m.coat), read("coatIor", m.coat_ior);
+    read("coatColor", m.coat_color), read("coatThickness", m.coat_thickness);
+    read("coatRoughness", m.coat_roughness), read("coatNormal", m.coat_normal);
+    read("flipflopColor", m.flipflop_color), read("flipflopFalloff", m.flipflop_falloff);
+  } else if constexpr (std::is_same_v<T, PlasticMaterial>) {
+    read("pigmentColor", m.pigment_color), read("eta", m.eta), read("roughness", m.roughness);
   }
 }
 
@@ -176,6 +269,22 @@ void maps_of(M& m, Map&& map) {
     map("map_metallic", m.map_metallic), map("map_opacity", m.map_opacity);
   } else if constexpr (std::is_same_v<T, LuminousMaterial>) {
     map("map_color", m.map_color);
+  } else if constexpr (std::is_same_v<T, ThinGlassMaterial>) {
+    map("map_attenuationColor", m.map_attenuation_color);
+  } else if constexpr (std::is_same_v<T, MetalMaterial>) {
+    map("map_roughness", m.map_roughness);
+  } else if constexpr (std::is_same_v<T, AlloyMaterial>) {
+    map("map_color", m.map_color), map("map_edgeColor", m.map_edge_color), map("map_roughness", m.map_roughness);
+  } else if constexpr (std::is_same_v<T, MetallicPaintMaterial>) {
+    map("map_baseColor", m.map_base_color);
+  } else if constexpr (std::is_same_v<T, CarPaintMaterial>) {
+    map("map_baseColor", m.map_base_color), map("map_roughness", m.map_roughness);
+    map("map_flakeColor", m.map_flake_color), map("map_flakeScale", m.map_flake_scale);
+    map("map_flakeDensity", m.map_flake_density), map("map_flakeSpread", m.map_flake_spread);
+    map("map_flakeJitter", m.map_flake_jitter), map("map_flakeRoughness", m.map_flake_roughness);
+    map("map_coat", m.map_coat), map("map_coatIor", m.map_coat_ior), map("map_coatColor", m.map_coat_color);
+    map("map_coatThickness", m.map_coat_thickness), map("map_coatRoughness", m.map_coat_roughness);
+    map("map_flipflopColor", m.map_flipflop_color), map("map_flipflopFalloff", m.map_flipflop_falloff);
   }
 }
 
@@ -187,17 +296,32 @@ auto* normal_map_of(M& m, float* scale = nullptr) {
   if (scale) *scale = 1.f;
   if constexpr (std::is_same_v<T, ObjMaterial>) {
     return Result(&m.map_bump);
-  } else if constexpr (std::is_same_v<T, PrincipledMaterial>) {
+  } else if constexpr (std::is_same_v<T, PrincipledMaterial> || std::is_same_v<T, CarPaintMaterial>) {
     if (scale) *scale = m.normal;
     return Result(&m.map_normal);
   } else {
     return Result(nullptr);
   }
 }
+
+/// The normal map of a clear coat with a normal of its own (carPaint), and its scale, or null.
+template <class M>
+auto* coat_normal_map_of(M& m, float* scale = nullptr) {
+  using T = std::remove_const_t<M>;
+  using Result = std::conditional_t<std::is_const_v<M>, const NormalMap*, NormalMap*>;
+  if (scale) *scale = 1.f;
+  if constexpr (std::is_same_v<T, CarPaintMaterial>) {
+    if (scale) *scale = m.coat_normal;
+    return Result(&m.map_coat_normal);
+  } else {
+    return Result(nullptr);
+  }
+}
 }  // namespace detail
 
-/// Calls map(name, NormalMap&) for the normal map `material`'s type has, under its OSPRay
-/// name (obj: map_bump; principled: map_normal; other types have none).
+/// Calls map(name, NormalMap&) for the normal maps `material`'s type has, under their
+/// OSPRay names (obj: map_bump; principled: map_normal; carPaint: map_normal,
+/// map_coatNormal; other types have none).
 template <class Map>
 void for_each_normal_map(Material& material, Map&& map) {
   std::visit(
@@ -205,6 +329,8 @@ void for_each_normal_map(Material& material, Map&& map) {
         using M = std::decay_t<decltype(m)>;
         if constexpr (std::is_same_v<M, ObjMaterial>) map("map_bump", m.map_bump);
         if constexpr (std::is_same_v<M, PrincipledMaterial>) map("map_normal", m.map_normal);
+        if constexpr (std::is_same_v<M, CarPaintMaterial>) map("map_normal", m.map_normal);
+        if constexpr (std::is_same_v<M, CarPaintMaterial>) map("map_coatNormal", m.map_coat_normal);
       },
       material);
 }
@@ -214,7 +340,24 @@ inline bool has_normal_map(const Material& material) {
   return std::visit(
       [](const auto& m) {
         const NormalMap* map = detail::normal_map_of(m);
-        return map && bool(*map);
+        const NormalMap* coat = detail::coat_normal_map_of(m);
+        return (map && bool(*map)) || (coat && bool(*coat));
+      },
+      material);
+}
+
+/// The normal a clear coat with a normal of its own sees (carPaint's: the interpolated
+/// normal `n`, which map_normal does not tilt, tilted by map_coatNormal; the flakes lie
+/// along it too); nullopt where the coat shares the material's shading normal. Arguments as
+/// mapped_normal's.
+inline std::optional<Vec3f> mapped_coat_normal(const Material& material, const Vec3f& n, const Vec3f& dpds,
+                                               const Vec3f& dpdt, const TexCoord<float>& uv) {
+  return std::visit(
+      [&](const auto& m) -> std::optional<Vec3f> {
+        float scale;
+        const NormalMap* coat = detail::coat_normal_map_of(m, &scale);
+        if (!coat) return std::nullopt;
+        return *coat ? coat->perturb(n, dpds, dpdt, uv, scale) : n;
       },
       material);
 }
@@ -234,7 +377,8 @@ inline Vec3f mapped_normal(const Material& material, const Vec3f& n, const Vec3f
 }
 
 /// Calls read(name, field) for every parameter of `material` under its OSPRay name
-/// (field: float&, bool& or Vec3f&): the one table the C API and scene files both read.
+/// (field: float&, bool&, Vec3f&, or std::optional<Vec3f>& for a colour whose absence means
+/// something: carPaint's flakeColor): the one table the C API and scene files both read.
 template <class Read>
 void for_each_parameter(Material& material, Read&& read) {
   std::visit([&](auto& m) { detail::parameters_of(m, read); }, material);
@@ -242,7 +386,11 @@ void for_each_parameter(Material& material, Read&& read) {
 
 /// Calls map(name, TextureMap&) for every texture map `material`'s type has, under its
 /// OSPRay name (obj: map_kd, map_ks, map_ns, map_d; principled: map_baseColor,
-/// map_roughness, map_metallic, map_opacity; luminous: map_color; other types have none).
+/// map_roughness, map_metallic, map_opacity; luminous: map_color; thinGlass:
+/// map_attenuationColor; metal: map_roughness; alloy: map_color, map_edgeColor,
+/// map_roughness; metallicPaint:
+/// map_baseColor; carPaint: map_<parameter> of every colour and float parameter but
+/// normal and coatNormal; other types have none).
 template <class Map>
 void for_each_map(Material& material, Map&& map) {
   std::visit([&](auto& m) { detail::maps_of(m, map); }, material);
@@ -279,8 +427,11 @@ inline const Material& textured(const Material& material, const TexCoord<float>&
         const auto scale = [&](const TextureMap& map, auto& field) {
           if (!map) return;
           const Vec3f t = map.at(uv);
-          if constexpr (std::is_same_v<std::remove_reference_t<decltype(field)>, Vec3f>)
+          using Field = std::remove_reference_t<decltype(field)>;
+          if constexpr (std::is_same_v<Field, Vec3f>)
             field = field * t;
+          else if constexpr (std::is_same_v<Field, std::optional<Vec3f>>)
+            field = field.value_or(Vec3f{1.f, 1.f, 1.f}) * t;
           else
             field = field * t.x;
         };
@@ -300,6 +451,25 @@ inline const Material& textured(const Material& material, const TexCoord<float>&
           cut_out(m.map_base_color, out.opacity);
         } else if constexpr (std::is_same_v<M, LuminousMaterial>) {
           scale(m.map_color, out.color);
+        } else if constexpr (std::is_same_v<M, ThinGlassMaterial>) {
+          scale(m.map_attenuation_color, out.attenuation_color);
+        } else if constexpr (std::is_same_v<M, MetalMaterial>) {
+          scale(m.map_roughness, out.roughness);
+          unit(out.roughness);
+        } else if constexpr (std::is_same_v<M, AlloyMaterial>) {
+          scale(m.map_color, out.color), scale(m.map_edge_color, out.edge_color), scale(m.map_roughness, out.roughness);
+          unit(out.roughness);
+        } else if constexpr (std::is_same_v<M, MetallicPaintMaterial>) {
+          scale(m.map_base_color, out.base_color);
+        } else if constexpr (std::is_same_v<M, CarPaintMaterial>) {
+          // Ranges are kept where the BSDF reads them (render/bsdf_paint.hpp), as OSPRay clamps.
+          scale(m.map_base_color, out.base_color), scale(m.map_roughness, out.roughness);
+          scale(m.map_flake_color, out.flake_color), scale(m.map_flake_scale, out.flake_scale);
+          scale(m.map_flake_density, out.flake_density), scale(m.map_flake_spread, out.flake_spread);
+          scale(m.map_flake_jitter, out.flake_jitter), scale(m.map_flake_roughness, out.flake_roughness);
+          scale(m.map_coat, out.coat), scale(m.map_coat_ior, out.coat_ior), scale(m.map_coat_color, out.coat_color);
+          scale(m.map_coat_thickness, out.coat_thickness), scale(m.map_coat_roughness, out.coat_roughness);
+          scale(m.map_flipflop_color, out.flipflop_color), scale(m.map_flipflop_falloff, out.flipflop_falloff);
         }
       },
       material);
@@ -326,7 +496,9 @@ inline ObjMaterial energy_conserving(ObjMaterial m) {
 }
 
 /// What the scivis and ao renderers see of any material: diffuse and specular colour,
-/// shininess, opacity and transmissive filter.
+/// shininess, opacity and transmissive filter. Of velvet, metallicPaint, carPaint and plastic they
+/// see what OSPRay's scivis sees of every material but obj: an opaque white diffuse
+/// surface, which the geometry's colours tint.
 inline ObjMaterial obj_view(const Material& material) {
   return std::visit(
       [](const auto& m) -> ObjMaterial {
@@ -361,6 +533,8 @@ inline ObjMaterial obj_view(const Material& material) {
         } else if constexpr (std::is_same_v<M, LuminousMaterial>) {
           o.kd = m.color * m.intensity;  // shown at its emitted colour
           o.d = 1.f - m.transparency;
+        } else {
+          o.kd = splat(1.f);
         }
         return o;
       },
@@ -376,11 +550,12 @@ inline void require(bool ok, const std::string& type, const char* parameter, con
 }
 inline bool in_unit(float v) { return v >= 0.f && v <= 1.f; }
 inline bool positive(float v) { return v > 0.f && std::isfinite(v); }
+inline bool non_negative(float v) { return v >= 0.f && std::isfinite(v); }
 }  // namespace detail
 
 /// Throws an Error naming the first parameter out of its range.
 inline void validate(const Material& material) {
-  using detail::finite_non_negative, detail::require, detail::in_unit, detail::positive;
+  using detail::finite_non_negative, detail::require, detail::in_unit, detail::positive, detail::non_negative;
   const std::string type = type_name(material);
   std::visit(
       [&](const auto& m) {
@@ -400,9 +575,10 @@ inline void validate(const Material& material) {
           require(positive(m.ior), type, "ior", "must be positive");
           require(in_unit(m.transmission), type, "transmission", "must be in [0, 1]");
           require(finite_non_negative(m.transmission_color), type, "transmissionColor", "must be finite and not negative");
-          require(positive(m.transmission_depth), type, "transmissionDepth", "must be positive");
+          require(non_negative(m.transmission_depth), type, "transmissionDepth", "must be finite and not negative");
           require(in_unit(m.roughness), type, "roughness", "must be in [0, 1]");
           require(positive(m.thickness), type, "thickness", "must be positive");
+          require(m.backlight >= 0.f && m.backlight <= 2.f, type, "backlight", "must be in [0, 2]");
           require(in_unit(m.coat), type, "coat", "must be in [0, 1]");
           require(positive(m.coat_ior), type, "coatIor", "must be positive");
           require(finite_non_negative(m.coat_color), type, "coatColor", "must be finite and not negative");
@@ -435,6 +611,42 @@ inline void validate(const Material& material) {
           require(finite_non_negative(m.color), type, "color", "must be finite and not negative");
           require(m.intensity >= 0.f && std::isfinite(m.intensity), type, "intensity", "must be finite and not negative");
           require(in_unit(m.transparency), type, "transparency", "must be in [0, 1]");
+        } else if constexpr (std::is_same_v<M, VelvetMaterial>) {
+          require(finite_non_negative(m.reflectance), type, "reflectance", "must be finite and not negative");
+          require(non_negative(m.back_scattering), type, "backScattering", "must be finite and not negative");
+          require(finite_non_negative(m.horizon_scattering_color), type, "horizonScatteringColor",
+                  "must be finite and not negative");
+          require(non_negative(m.horizon_scattering_fall_off), type, "horizonScatteringFallOff",
+                  "must be finite and not negative");
+        } else if constexpr (std::is_same_v<M, MetallicPaintMaterial>) {
+          require(finite_non_negative(m.base_color), type, "baseColor", "must be finite and not negative");
+          require(in_unit(m.flake_amount), type, "flakeAmount", "must be in [0, 1]");
+          require(finite_non_negative(m.flake_color), type, "flakeColor", "must be finite and not negative");
+          require(non_negative(m.flake_spread), type, "flakeSpread", "must be finite and not negative");
+          require(positive(m.eta), type, "eta", "must be positive");
+        } else if constexpr (std::is_same_v<M, CarPaintMaterial>) {
+          require(finite_non_negative(m.base_color), type, "baseColor", "must be finite and not negative");
+          require(non_negative(m.roughness), type, "roughness", "must be finite and not negative");
+          require(std::isfinite(m.normal), type, "normal", "must be finite");
+          require(!m.flake_color || finite_non_negative(*m.flake_color), type, "flakeColor",
+                  "must be finite and not negative");
+          require(non_negative(m.flake_scale), type, "flakeScale", "must be finite and not negative");
+          require(in_unit(m.flake_density), type, "flakeDensity", "must be in [0, 1]");
+          require(non_negative(m.flake_spread), type, "flakeSpread", "must be finite and not negative");
+          require(in_unit(m.flake_jitter), type, "flakeJitter", "must be in [0, 1]");
+          require(non_negative(m.flake_roughness), type, "flakeRoughness", "must be finite and not negative");
+          require(in_unit(m.coat), type, "coat", "must be in [0, 1]");
+          require(positive(m.coat_ior), type, "coatIor", "must be positive");
+          require(finite_non_negative(m.coat_color), type, "coatColor", "must be finite and not negative");
+          require(non_negative(m.coat_thickness), type, "coatThickness", "must be finite and not negative");
+          require(non_negative(m.coat_roughness), type, "coatRoughness", "must be finite and not negative");
+          require(std::isfinite(m.coat_normal), type, "coatNormal", "must be finite");
+          require(finite_non_negative(m.flipflop_color), type, "flipflopColor", "must be finite and not negative");
+          require(in_unit(m.flipflop_falloff), type, "flipflopFalloff", "must be in [0, 1]");
+        } else if constexpr (std::is_same_v<M, PlasticMaterial>) {
+          require(finite_non_negative(m.pigment_color), type, "pigmentColor", "must be finite and not negative");
+          require(positive(m.eta), type, "eta", "must be positive");
+          require(non_negative(m.roughness), type, "roughness", "must be finite and not negative");
         }
         detail::maps_of(m, [&](const char* name, const TextureMap& map) {
           require(map.transform.finite(), type, name, "has a transform that is not finite");
@@ -442,6 +654,8 @@ inline void validate(const Material& material) {
         if (const NormalMap* normals = detail::normal_map_of(m))
           require(normals->map.transform.finite(), type, type == "obj" ? "map_bump" : "map_normal",
                   "has a transform that is not finite");
+        if (const NormalMap* normals = detail::coat_normal_map_of(m))
+          require(normals->map.transform.finite(), type, "map_coatNormal", "has a transform that is not finite");
       },
       material);
 }

@@ -174,10 +174,10 @@ public:
           continue;
         }
         const SurfacePoint& s = v.surface;
-        const Vec3f n = s.material != no_material && normal_mapped_[s.material]
-                            ? mapped_normal(material(s), s.n, s.dpds, s.dpdt, s.uv)
-                            : s.n;
-        p.sp = {n, s.ng, s.front, s.color, s.alpha};
+        const bool mapped = s.material != no_material && normal_mapped_[s.material];
+        const Vec3f n = mapped ? mapped_normal(material(s), s.n, s.dpds, s.dpdt, s.uv) : s.n;
+        const auto coat_n = mapped ? mapped_coat_normal(material(s), s.n, s.dpds, s.dpdt, s.uv) : std::nullopt;
+        p.sp = {n, s.ng, s.front, s.color, s.alpha, s.p, coat_n};
         p.p = s.p;
         p.offset = detail::ray_offset(s.p, s.t, s.epsilon);
         p.material = &textured(material(s), s.uv, p.textured_material);
