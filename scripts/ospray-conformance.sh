@@ -37,7 +37,8 @@ awk -F'\t' '$1 != "OK" {print ($1 == "FAIL" ? "image differs" : $3)}' "$results"
   cut -c1-120 | sort | uniq -c | sort -rn
 echo "of the failures, $non_grid are non-grid volume tests (unstructured, vdb, amr, particle)"
 # Image failures that are Monte Carlo noise (the images agree in 16x16-block means) or a
-# different image (see the script for the criterion).
+# different image (see the script for the criterion); Debian's python3, where dev.sh
+# installs numpy and matplotlib.
 echo "image failures, noise or a different image:"
-python3 scripts/ospray-image-noise.py "$out" | tee "$out/image-noise.tsv" | tail -1
+/usr/bin/python3 scripts/ospray-image-noise.py "$out" | tee "$out/image-noise.tsv" | tail -1
 echo "$summary"
