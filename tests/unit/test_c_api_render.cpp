@@ -99,6 +99,23 @@ float square_irradiance(float a, float h, float radiance) {
   return static_cast<float>(radiance * 4.0 * corner / 2.0);
 }
 
+/// The 8x8 RGBA frame a fresh `type` renderer with backplate `plate` makes of `scene`,
+/// one sample at each pixel's centre.
+std::vector<float> render_with_backplate(const FloorScene& scene, const char* type, OSPTexture plate) {
+  OSPRenderer renderer = ospNewRenderer(type);
+  ospSetObject(renderer, "map_backplate", plate);
+  ospSetInt(renderer, "pixelFilter", OSP_PIXELFILTER_POINT);
+  ospCommit(renderer);
+  OSPFrameBuffer fb = ospNewFrameBuffer(8, 8, OSP_FB_RGBA32F, OSP_FB_COLOR);
+  ospRenderFrameBlocking(fb, renderer, scene.camera, scene.world);
+  const auto* rgba = static_cast<const float*>(ospMapFrameBuffer(fb, OSP_FB_COLOR));
+  std::vector<float> image(rgba, rgba + 4 * 8 * 8);
+  ospUnmapFrameBuffer(rgba, fb);
+  ospRelease(fb);
+  ospRelease(renderer);
+  return image;
+}
+
 }  // namespace
 
 TEST_CASE("pathtracer through the C API: a floor under a quad light has radiance kd E / pi", "[c_api][renderers]") {
@@ -238,19 +255,10 @@ TEST_CASE("an hdri light of a texture2d is the background scivis shows", "[c_api
   ospCommit(plate);
   for (const char* type : {"scivis", "pathtracer"}) {
     INFO(type);
-    OSPRenderer renderer = ospNewRenderer(type);
-    ospSetObject(renderer, "map_backplate", plate);
-    ospSetInt(renderer, "pixelFilter", OSP_PIXELFILTER_POINT);
-    ospCommit(renderer);
-    OSPFrameBuffer fb = ospNewFrameBuffer(8, 8, OSP_FB_RGBA32F, OSP_FB_COLOR);
-    ospRenderFrameBlocking(fb, renderer, scene.camera, scene.world);
-    const auto* rgba = static_cast<const float*>(ospMapFrameBuffer(fb, OSP_FB_COLOR));
+    const std::vector<float> rgba = render_with_backplate(scene, type, plate);
     CHECK(rgba[4 * (3 * 8 + 1) + 0] == 1.f);  // row 3, column 1: left half
     CHECK(rgba[4 * (3 * 8 + 6) + 1] == 1.f);  // column 6: right half
     CHECK(rgba[4 * (3 * 8 + 6) + 0] == 0.f);
-    ospUnmapFrameBuffer(rgba, fb);
-    ospRelease(fb);
-    ospRelease(renderer);
   }
   CHECK(api.messages.errors == std::vector<std::string>{});
   ospRelease(plate);
@@ -472,23 +480,14 @@ TEST_CASE("a backplate with alpha sets the background's alpha and is clamped at 
   ospCommit(plate);
   for (const char* type : {"scivis", "pathtracer"}) {
     INFO(type);
-    OSPRenderer renderer = ospNewRenderer(type);
-    ospSetObject(renderer, "map_backplate", plate);
-    ospSetInt(renderer, "pixelFilter", OSP_PIXELFILTER_POINT);
-    ospCommit(renderer);
-    OSPFrameBuffer fb = ospNewFrameBuffer(8, 8, OSP_FB_RGBA32F, OSP_FB_COLOR);
-    ospRenderFrameBlocking(fb, renderer, scene.camera, scene.world);
-    const auto* rgba = static_cast<const float*>(ospMapFrameBuffer(fb, OSP_FB_COLOR));
-    const float* left = rgba + 4 * (3 * 8 + 0);  // row 3, column 0: the left edge
-    const float* right = rgba + 4 * (3 * 8 + 7);
+    const std::vector<float> rgba = render_with_backplate(scene, type, plate);
+    const float* left = rgba.data() + 4 * (3 * 8 + 0);  // row 3, column 0: the left edge
+    const float* right = rgba.data() + 4 * (3 * 8 + 7);
     CHECK(left[0] == Approx(1.f));
     CHECK(left[1] == Approx(0.f).margin(1e-6));
     CHECK(left[3] == Approx(64.f / 255.f));
     CHECK(right[1] == Approx(1.f));
     CHECK(right[3] == Approx(1.f));
-    ospUnmapFrameBuffer(rgba, fb);
-    ospRelease(fb);
-    ospRelease(renderer);
   }
   ospRelease(plate);
   CHECK(api.messages.errors == std::vector<std::string>{});
