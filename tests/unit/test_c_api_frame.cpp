@@ -266,10 +266,16 @@ TEST_CASE("cameras: depth of field, stereo eyes and the panoramic camera through
     CHECK(right.worldPosition[0] == Approx(-left.worldPosition[0]));
     CHECK(right.worldPosition[2] == Approx(left.worldPosition[2]));
   }
-  SECTION("depth of field: the pick looks through the lens centre; out-of-focus edges blur") {
+  SECTION("depth of field: the pick looks through the lens centre; out-of-focus edges blur in the path tracer, "
+          "scivis sees through the lens centre as OSPRay's") {
     SphereScene scene({0.f, 0.f, 0.f}, "perspective");
     ospSetFloat(scene.camera, "fovy", 40.f);
     ospCommit(scene.camera);
+    const auto scivis_sharp = scene.render(32, 32, 8);
+    ospRelease(scene.renderer);
+    scene.renderer = ospNewRenderer("pathtracer");
+    ospSetVec4f(scene.renderer, "backgroundColor", 0.1f, 0.2f, 0.3f, 1.f);
+    ospCommit(scene.renderer);
     const auto sharp = scene.render(32, 32, 8);
     ospSetFloat(scene.camera, "apertureRadius", 0.4f);
     ospSetFloat(scene.camera, "focusDistance", 2.f);
@@ -278,6 +284,11 @@ TEST_CASE("cameras: depth of field, stereo eyes and the panoramic camera through
     REQUIRE(centre.hasHit == 1);
     CHECK(centre.worldPosition[2] == Approx(-1.f));
     const auto blurred = scene.render(32, 32, 8);
+    ospRelease(scene.renderer);
+    scene.renderer = ospNewRenderer("scivis");
+    ospSetVec4f(scene.renderer, "backgroundColor", 0.1f, 0.2f, 0.3f, 1.f);
+    ospCommit(scene.renderer);
+    CHECK(scene.render(32, 32, 8) == scivis_sharp);
     // Along the middle row, the silhouette spreads over more pixels between the
     // background and the sphere's shade.
     const auto mixed = [](const std::vector<float>& image) {

@@ -41,9 +41,11 @@ OrthographicCamera top_view() {
   return c;
 }
 
-/// Flat white under ambient light: a pixel's value is how much of it the geometry covers.
+/// Flat white under ambient light: a pixel's value is how much of it the geometry covers
+/// over the shutter (scivis made to sample it: OSPRay's sees only the middle instant).
 SciVisParams coverage_shading() {
   SciVisParams params;
+  params.sample_lens_and_shutter = true;
   params.materials = {ObjMaterial{.kd = {1.f, 1.f, 1.f}}};
   params.lights = {AmbientLight{}};
   return params;
@@ -137,6 +139,40 @@ TEST_CASE("an instance moving across the shutter blurs into a streak covering ea
         ++checked;
       }
     CHECK(streaked > checked / 2);  // the streak is most of the row, not a sharp square
+  }
+}
+
+TEST_CASE("scivis and ao render the shutter's middle instant, as OSPRay's: a moving square stays sharp",
+          "[motion][render]") {
+  constexpr int size = 64;
+  constexpr float pixel = 4.f / size, x0 = -1.5f, travel = 2.f, width = 1.f;
+  TestWorld scene;
+  auto group = std::make_shared<shim::EngineWorld::GroupType>(scene.device);
+  group->add(rectangle(0.f, width, -0.5f, 0.5f), 0);
+  scene.world.add_instance(group, MotionTransform({Affine3f::translate({x0, 0.f, 0.f}),
+                                                   Affine3f::translate({x0 + travel, 0.f, 0.f})},
+                                                  0.f, 1.f));
+  scene.world.commit();
+  OrthographicCamera camera = top_view();
+  camera.shutter_open = 0.f, camera.shutter_close = 1.f;
+  SciVisParams scivis = coverage_shading();
+  scivis.sample_lens_and_shutter = false;
+  AOParams ao;
+  ao.materials = scivis.materials;
+  ao.ao_samples = 0;
+  const Image scivis_image = render(scene.world, scivis, camera, size, size, 1, centre_samples(16));
+  const Image ao_image = render(scene.world, ao, camera, size, size, 1, centre_samples(16));
+  // At time 0.5 the square spans [x0 + travel / 2, x0 + travel / 2 + width] = [-0.5, 0.5].
+  const float left = x0 + 0.5f * travel;
+  for (const Image* image : {&scivis_image, &ao_image}) {
+    const double inside = image->at(size / 2, size / 2, 0);
+    REQUIRE(inside > 0.1);
+    for (int x = 0; x < size; ++x) {
+      const float centre = -2.f + (static_cast<float>(x) + 0.5f) * pixel;
+      const bool covered = left <= centre && centre <= left + width;
+      INFO("pixel x = " << x << " at " << centre);
+      CHECK(image->at(x, size / 2, 0) / inside == Approx(covered ? 1.0 : 0.0).margin(1e-4));
+    }
   }
 }
 

@@ -127,6 +127,9 @@ std::uint32_t render_frame(const Renderer& renderer, const CameraT& camera, Fram
   if constexpr (requires { camera.uses_lens(); }) uses_lens = camera.uses_lens();
   bool uses_time = false;
   if constexpr (requires { camera.uses_time_sample(); }) uses_time = camera.uses_time_sample();
+  // Renderers that see one instant through the lens centre (scivis and ao, as OSPRay's).
+  if constexpr (requires { renderer.samples_lens_and_shutter(); })
+    if (!renderer.samples_lens_and_shutter()) uses_lens = uses_time = false;
 
   const bool first_hit_channels = fb.has(channel_depth) || fb.has(channel_id_primitive) ||
                                   fb.has(channel_id_object) || fb.has(channel_id_instance);

@@ -10,7 +10,8 @@
 // samples it (the centre of a disk, sphere or cone, a quad light's centre),
 // so shadows are hard when `shadows` is set — soft shadows are the path tracer's. Surfaces with opacity `d` < 1 or a transmissive filter `tf` let
 // the ray continue, up to `maxPathLength` surfaces; shadows are tinted by them too.
-// Volumes are integrated on the same rays, between surfaces.
+// Volumes are integrated on the same rays, between surfaces. Both see the shutter's
+// middle instant through the lens centre, as OSPRay's (LocalRendererParams).
 //
 // ao: OSPRay's ao renderer, an eye light: kd times |n·ω| (the surface as lit from the
 // camera), dimmed by occlusion as `aoIntensity` says — times 1 - aoIntensity + aoIntensity
@@ -32,7 +33,14 @@
 
 namespace sciray {
 
-struct SciVisParams : RendererParams {
+/// What scivis and ao share. Their camera rays see the shutter's middle instant through
+/// the lens centre, as OSPRay's do (motion blur and depth of field are the path tracer's),
+/// unless `sample_lens_and_shutter` is set.
+struct LocalRendererParams : RendererParams {
+  bool sample_lens_and_shutter = false;
+};
+
+struct SciVisParams : LocalRendererParams {
   bool shadows = false;
   /// visibleLights: camera rays (and rays through transparent surfaces) see the lights
   /// with size and `visible` set, as OSPRay's scivis; the hdri light is the background.
@@ -41,7 +49,7 @@ struct SciVisParams : RendererParams {
   float ao_distance = 1e20f;            ///< aoDistance
 };
 
-struct AOParams : RendererParams {
+struct AOParams : LocalRendererParams {
   AOParams() { lights.clear(); }
   int ao_samples = 1;
   float ao_distance = 1e20f;
@@ -203,6 +211,9 @@ public:
     out.albedo = select(first_surface, out.albedo, Vec3<F>(params_.background_color));
     return out;
   }
+
+  /// Whether camera rays sample the lens and the shutter (render_frame asks).
+  bool samples_lens_and_shutter() const { return params_.sample_lens_and_shutter; }
 
 private:
   /// A light sampled at every hit: one of the world's, or a moving instance's, placed at
