@@ -385,7 +385,10 @@ private:
       return out;
     }
     const Vec3<F> p = ray.org + ray.dir * t;
-    const F offset = simd::max(offset_of(p, t, ray.dir), s.epsilon);
+    // Geometries with their own epsilon (spheres) start 2 ulps out at least, others 8 (ray_offset).
+    const F magnitude = magnitude_of(p, t, ray.dir);
+    const F offset =
+        simd::select(s.epsilon > F(0.f), simd::max(F(0x1p-23f) * magnitude, s.epsilon), F(0x1.fp-21f) * magnitude);
     const Vec3<F> org = p + ng * offset;
 
     if constexpr (is_ao) {
@@ -484,15 +487,15 @@ private:
     return any;
   }
 
-  /// How far shadow and AO rays start off the surface, along the geometric normal:
-  /// OSPRay's epsilon, about 8 ulps of the larger of the hit's largest coordinate and its
-  /// distance along the ray — so that shadow edges and terminators land where OSPRay's
-  /// do, also on objects far smaller than the scene.
-  static F offset_of(const Vec3<F>& p, const F& t, const Vec3<F>& dir) {
+  /// The magnitude that scales how far shadow and AO rays start off the surface (ray_offset):
+  /// the larger of the hit's largest coordinate and its distance along the ray — so that
+  /// shadow edges and terminators land where OSPRay's do, also on objects far smaller
+  /// than the scene.
+  static F magnitude_of(const Vec3<F>& p, const F& t, const Vec3<F>& dir) {
     const auto largest = [](const Vec3<F>& v) {
       return simd::max(simd::max(simd::abs(v.x), simd::abs(v.y)), simd::abs(v.z));
     };
-    return F(0x1.fp-21f) * simd::max(largest(p), largest(dir) * t);
+    return simd::max(largest(p), largest(dir) * t);
   }
 
   /// The fraction of `aoSamples` cosine-weighted rays around n that nothing blocks within
