@@ -46,11 +46,15 @@ struct PrincipledMaterial {
   float metallic = 0.f;
   float diffuse = 1.f;
   float specular = 1.f;
-  float ior = 1.5f;
+  float ior = 1.f;  ///< OSPRay's default: no specular interface (and no refraction) unless set
   float transmission = 0.f;
   Vec3f transmission_color{1.f, 1.f, 1.f};
   float transmission_depth = 1.f;  ///< 0 absorbs all but channels of transmissionColor 1
   float roughness = 0.f;
+  /// In [0, 1]: GGX stretched along the tangent (the surface's dP/ds), shrunk across it,
+  /// as OSPRay's (Burley 2012: alpha / aspect and alpha * aspect, aspect = sqrt(1 - 0.9 a)).
+  float anisotropy = 0.f;
+  float rotation = 0.f;  ///< in [0, 1]: turns the tangent about the normal by 2 pi rotation
   bool thin = false;
   float thickness = 1.f;
   float backlight = 0.f;  ///< thin only: in [0, 2], half of it is the diffuse part transmitted (1: as much as reflected)
@@ -222,7 +226,8 @@ void parameters_of(M& m, Read&& read) {
     read("baseColor", m.base_color), read("edgeColor", m.edge_color), read("metallic", m.metallic);
     read("diffuse", m.diffuse), read("specular", m.specular), read("ior", m.ior);
     read("transmission", m.transmission), read("transmissionColor", m.transmission_color);
-    read("transmissionDepth", m.transmission_depth), read("roughness", m.roughness), read("thin", m.thin);
+    read("transmissionDepth", m.transmission_depth), read("roughness", m.roughness);
+    read("anisotropy", m.anisotropy), read("rotation", m.rotation), read("thin", m.thin);
     read("thickness", m.thickness), read("backlight", m.backlight), read("coat", m.coat), read("coatIor", m.coat_ior);
     read("coatColor", m.coat_color), read("coatThickness", m.coat_thickness);
     read("coatRoughness", m.coat_roughness), read("sheen", m.sheen), read("sheenColor", m.sheen_color);
@@ -344,6 +349,13 @@ inline bool has_normal_map(const Material& material) {
         return (map && bool(*map)) || (coat && bool(*coat));
       },
       material);
+}
+
+/// Whether `material` reflects anisotropically (principled anisotropy > 0): its shading
+/// needs a tangent, the surface's texture derivative dP/ds.
+inline bool is_anisotropic(const Material& material) {
+  const auto* principled = std::get_if<PrincipledMaterial>(&material);
+  return principled && principled->anisotropy > 0.f;
 }
 
 /// The normal a clear coat with a normal of its own sees (carPaint's: the interpolated
@@ -577,6 +589,8 @@ inline void validate(const Material& material) {
           require(finite_non_negative(m.transmission_color), type, "transmissionColor", "must be finite and not negative");
           require(non_negative(m.transmission_depth), type, "transmissionDepth", "must be finite and not negative");
           require(in_unit(m.roughness), type, "roughness", "must be in [0, 1]");
+          require(in_unit(m.anisotropy), type, "anisotropy", "must be in [0, 1]");
+          require(in_unit(m.rotation), type, "rotation", "must be in [0, 1]");
           require(positive(m.thickness), type, "thickness", "must be positive");
           require(m.backlight >= 0.f && m.backlight <= 2.f, type, "backlight", "must be in [0, 2]");
           require(in_unit(m.coat), type, "coat", "must be in [0, 1]");
