@@ -22,6 +22,7 @@ PrincipledMaterial principled(float roughness) {
   PrincipledMaterial p;
   p.base_color = {1.f, 1.f, 1.f};
   p.roughness = roughness;
+  p.ior = 1.5f;  // a specular interface (OSPRay's default, 1, has none)
   return p;
 }
 

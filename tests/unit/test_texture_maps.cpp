@@ -11,6 +11,8 @@
 #include <array>
 #include <cmath>
 #include <numbers>
+#include <optional>
+#include <type_traits>
 #include <cstdio>
 #include <filesystem>
 #include <limits>
@@ -402,6 +404,60 @@ TEST_CASE("texture maps: textured() resolves maps and leaves untextured material
   // Both axes tile: u = 1.25 and v = -0.75 are the same cell as (0.25, 0.25).
   CHECK(std::get<ObjMaterial>(textured(m, {1.25f, -0.75f}, storage)).kd == Vec3f{0.5f, 0.5f, 0.25f});
   CHECK(std::get<ObjMaterial>(textured(m, {0.75f, 0.25f}, storage)).kd == Vec3f{0.f, 0.f, 0.f});
+}
+
+TEST_CASE("texture maps: every map of every material type scales the parameter it is named after",
+          "[texture_maps]") {
+  // Each map alone, a checker of texels 1 and 0, over its parameter set to 0.5: the
+  // resolved parameter is 0.5 where the texel is 1 and 0 where it is 0 (a mapped index of
+  // refraction of principled stays at 1/3, where OSPRay clamps it).
+  const auto set = [](auto& field, float v) {
+    using Field = std::remove_reference_t<decltype(field)>;
+    if constexpr (std::is_same_v<Field, float>) field = v;
+    if constexpr (std::is_same_v<Field, Vec3f> || std::is_same_v<Field, std::optional<Vec3f>>) field = splat(v);
+  };
+  const auto value = [](const auto& field) -> float {
+    using Field = std::remove_cvref_t<decltype(field)>;
+    if constexpr (std::is_same_v<Field, float>) return field;
+    if constexpr (std::is_same_v<Field, Vec3f>) return field.y;
+    if constexpr (std::is_same_v<Field, std::optional<Vec3f>>) return field ? field->y : -1.f;
+    return -1.f;
+  };
+  int checked = 0;
+  for (const char* type : material_type_names) {
+    Material base = *material_of_type(type);
+    std::vector<std::string> names;
+    for_each_map(base, [&](const char* name, TextureMap&) { names.push_back(name); });
+    for (const std::string& map : names) {
+      const std::string parameter = map.substr(4);
+      Material m = base;
+      int found = 0;
+      for_each_parameter(m, [&](const char* p, auto& field) { if (p == parameter) set(field, 0.5f), ++found; });
+      for_each_map(m, [&](const char* name, TextureMap& t) {
+        if (name == map) t.texture = checker(2, splat(1.f), splat(0.f));
+      });
+      INFO(type << " " << map);
+      REQUIRE(found == 1);
+      const auto resolved = [&](float u) {
+        Material storage;
+        float v = -2.f;
+        for_each_parameter(const_cast<Material&>(textured(m, {u, 0.25f}, storage)),
+                           [&](const char* p, auto& field) { if (p == parameter) v = value(field); });
+        return v;
+      };
+      const bool index = std::string(type) == "principled" && (parameter == "ior" || parameter == "coatIor");
+      CHECK(resolved(0.25f) == Approx(0.5f));
+      CHECK(resolved(0.75f) == Approx(index ? 1.f / 3.f : 0.f));
+      ++checked;
+    }
+  }
+  // Principled maps every parameter but thin and normal, as OSPRay 3.
+  Material principled = PrincipledMaterial{};
+  int parameters = 0, maps = 0;
+  for_each_parameter(principled, [&](const char*, auto&) { ++parameters; });
+  for_each_map(principled, [&](const char*, TextureMap&) { ++maps; });
+  CHECK(maps == parameters - 2);
+  CHECK(checked > 50);
 }
 
 TEST_CASE("texture maps: the alpha of map_kd and map_baseColor multiplies opacity as in OSPRay", "[texture_maps]") {

@@ -60,7 +60,7 @@ inline bool reflects(const Fresnel& dielectric) { return dielectric.scale > 0.f 
 /// A bare dielectric interface of relative index `eta` from wo's side to the other: GGX (or
 /// smooth) reflection and refraction, weighted by `weight`; rough, also what its
 /// microfacets scatter more than once (as OSPRay's microfacet dielectric).
-inline void add_interface(Bsdf& b, float eta, float specular, float alpha, float weight) {
+inline void add_interface(Bsdf& b, float eta, float specular, float alpha, float weight, float anisotropy = 0.f) {
   const Fresnel fresnel{Fresnel::Kind::dielectric, eta, specular};
   const float cos_o = b.wo().z;
   const bool rough = alpha >= min_alpha && std::abs(eta - 1.f) >= min_eta_contrast;
@@ -72,8 +72,8 @@ inline void add_interface(Bsdf& b, float eta, float specular, float alpha, float
   // Rough: the shares of the microfacets, not of the smooth interface, pick the lobes
   // (past the critical angle a smooth interface refracts nothing, a rough one much).
   const float albedo = ggx_dielectric_albedo(cos_o, eta, alpha), up = ggx_dielectric_reflectance(cos_o, eta, alpha);
-  if (reflects(fresnel)) b.add(LobeKind::ggx_reflect, splat(weight), weight * up, fresnel, alpha);
-  b.add(LobeKind::ggx_refract, splat(weight), weight * std::max(albedo - up, 0.f), fresnel, alpha);
+  if (reflects(fresnel)) b.add(LobeKind::ggx_reflect, splat(weight), weight * up, fresnel, alpha, 0u, 0, anisotropy);
+  b.add(LobeKind::ggx_refract, splat(weight), weight * std::max(albedo - up, 0.f), fresnel, alpha, 0u, 0, anisotropy);
   b.add(LobeKind::dielectric_ms, splat(weight), weight * (1.f - albedo), fresnel, alpha);
 }
 
@@ -84,10 +84,14 @@ inline void build(Bsdf& b, const PrincipledMaterial& m, const ShadingPoint& sp) 
   const float alpha = m.roughness * m.roughness;
   const LobeKind reflection = alpha >= min_alpha ? LobeKind::ggx_reflect : LobeKind::mirror;
   const float dielectric = 1.f - m.metallic;
+  // The base's microfacets (specular, glass, metal; not the coat's) stretch along the
+  // tangent, turned by rotation (OSPRay's).
+  const float anisotropy = m.anisotropy;
+  if (anisotropy > 0.f && m.rotation > 0.f) b.turn_tangent(2.f * pi * m.rotation);
 
   if (!sp.entering && !m.thin && m.transmission > 0.f) {
     // From inside the body only its interface is met.
-    add_interface(b, 1.f / m.ior, m.specular, alpha, opacity);
+    add_interface(b, 1.f / m.ior, m.specular, alpha, opacity, anisotropy);
     return;
   }
   const Vec3f base = clamp01(m.base_color * sp.color);
@@ -122,7 +126,7 @@ inline void build(Bsdf& b, const PrincipledMaterial& m, const ShadingPoint& sp) 
     const float plain_reflection = m.thin ? 1.f - transmission : 1.f;
     if (reflects(specular))
       b.add(reflection, splat(opacity * dielectric * plain_reflection),
-            outer * opacity * dielectric * plain_reflection * specular(cos_o).x, specular, alpha, under);
+            outer * opacity * dielectric * plain_reflection * specular(cos_o).x, specular, alpha, under, 0, anisotropy);
     // The diffuse part, rough as Oren–Nayar, of which a thin sheet transmits backlight/2 (as
     // OSPRay's).
     const Vec3f diffuse = base * (opacity * dielectric * (1.f - transmission) * m.diffuse);
@@ -139,7 +143,7 @@ inline void build(Bsdf& b, const PrincipledMaterial& m, const ShadingPoint& sp) 
         // at the macroscopic angle (reflection keeps its GGX shape).
         const SheetResponse sheet = thin_sheet(cos_o, m.ior, m.specular, clamp01(m.transmission_color),
                                                m.thickness / std::max(m.transmission_depth, min_depth));
-        b.add(reflection, sheet.r * weight, outer * weight * mean(sheet.r), {}, alpha, under);
+        b.add(reflection, sheet.r * weight, outer * weight * mean(sheet.r), {}, alpha, under, 0, anisotropy);
         b.add(LobeKind::straight, sheet.t * weight, outer * weight * mean(sheet.t), {}, 0.f, under);
       } else {
         const bool rough = alpha >= min_alpha && std::abs(m.ior - 1.f) >= min_eta_contrast;
@@ -147,7 +151,7 @@ inline void build(Bsdf& b, const PrincipledMaterial& m, const ShadingPoint& sp) 
         const float through = rough ? std::max(albedo - ggx_dielectric_reflectance(cos_o, m.ior, alpha), 0.f)
                                     : specular.transmit(cos_o);
         b.add(rough ? LobeKind::ggx_refract : LobeKind::refract, splat(weight), outer * weight * through, specular,
-              alpha, under);
+              alpha, under, 0, anisotropy);
         if (rough) b.add(LobeKind::dielectric_ms, splat(weight), outer * weight * (1.f - albedo), specular, alpha, under);
       }
     }
@@ -155,7 +159,7 @@ inline void build(Bsdf& b, const PrincipledMaterial& m, const ShadingPoint& sp) 
   if (m.metallic > 0.f) {
     const Fresnel metal{Fresnel::Kind::schlick, 1.f, 1.f, base, clamp01(m.edge_color)};
     b.add(reflection, splat(opacity * m.metallic), outer * opacity * m.metallic * mean(metal(cos_o)), metal, alpha,
-          under);
+          under, 0, anisotropy);
   }
 }
 
@@ -192,7 +196,7 @@ inline Bsdf make_bsdf(const Material& material, const ShadingPoint& sp, const Ve
   Bsdf b;
   if (!(dot(wo, sp.ng) > 0.f)) return b;
   // The shading frame is the outermost layer's: a coat with a normal of its own has it.
-  b.frames[0] = Frame(facing(sp.coat_n.value_or(sp.n), wo, sp.ng));
+  b.frames[0] = Frame(facing(sp.coat_n.value_or(sp.n), wo, sp.ng), sp.tangent);
   b.wos[0] = b.frames[0].to_local(wo);
   if (!(b.wo().z > 0.f)) return b;
   std::visit([&](const auto& m) { build(b, m, sp); }, material);

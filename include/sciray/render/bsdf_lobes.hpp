@@ -37,6 +37,9 @@ struct ShadingPoint {
   /// The normal of a coat that does not share n (carPaint's: see mapped_coat_normal), on
   /// the side of wo as n; none: the coat's normal is n.
   std::optional<Vec3f> coat_n{};
+  /// Where the material is anisotropic: the direction of its tangent, dP/ds (not yet
+  /// perpendicular to n, not unit); zero: any tangent.
+  Vec3f tangent{0.f, 0.f, 0.f};
 };
 
 struct BsdfSample {
@@ -85,6 +88,10 @@ struct Lobe {
   unsigned layers = 0u;
   float probability = 0.f;  ///< of sample() choosing it
   int frame = 0;            ///< Bsdf::frames index: 0, the shading frame; others tilted (a normal map, a flake)
+  float anisotropy = 0.f;   ///< GGX lobes: stretches alpha along the frame's tangent (anisotropic_alpha)
+
+  /// A GGX lobe's alpha along the frame's tangent and bitangent.
+  GgxAlpha alpha() const { return anisotropic_alpha(shape, anisotropy); }
 };
 
 /// `n` bent towards wo until it sees wo at min_cos at least (an interpolated or mapped
@@ -125,9 +132,16 @@ struct Bsdf {
   /// lobe, roughly for others), sets how often sample() picks it; a non-delta lobe keeps a
   /// small share when its estimate is 0, as it may still reflect towards other wi.
   void add(LobeKind kind, const Vec3f& tint, float estimate, const Fresnel& fresnel = {}, float shape = 0.f,
-           unsigned layers = 0u, int frame = 0) {
+           unsigned layers = 0u, int frame = 0, float anisotropy = 0.f) {
     if (!(max_component(tint) > 0.f) || (is_delta(kind) && !(estimate > 0.f))) return;
-    lobes[count++] = {kind, tint, fresnel, shape, layers, std::max(estimate, 1e-3f * max_component(tint)), frame};
+    const float probability = std::max(estimate, 1e-3f * max_component(tint));
+    lobes[count++] = {kind, tint, fresnel, shape, layers, probability, frame, anisotropy};
+  }
+  /// Turns the shading frame's tangent about its normal by `radians` (principled's rotation).
+  void turn_tangent(float radians) {
+    const Vec3f wo_world = frames[0].to_world(wos[0]);
+    frames[0] = frames[0].turned(radians);
+    wos[0] = frames[0].to_local(wo_world);
   }
   /// Once every lobe is in: the probabilities sum to 1, and each layer knows whether what
   /// lies below it is purely diffuse.
@@ -243,18 +257,20 @@ inline LobeValue eval_lobe(const Lobe& lobe, const Vec3f& wo, const Vec3f& wi) {
     }
     case LobeKind::ggx_reflect: {
       if (!(wi.z > 0.f)) return {};
-      const float alpha = lobe.shape;
+      const GgxAlpha alpha = lobe.alpha();
       const Vec3f h = normalize(wo + wi);
       const float d = ggx_d(h, alpha);
       const float f_cos = d * ggx_g2(wo, wi, alpha) / (4.f * wo.z);
       Vec3f f = lobe.fresnel(dot(wo, h)) * f_cos;
+      // Energy compensation by the isotropic albedo of the lobe's roughness (as OSPRay's).
       if (lobe.fresnel.kind == Fresnel::Kind::schlick)
-        f += ggx_multiple_scattering(lobe.fresnel.average(), wo.z, wi.z, alpha);
+        f += ggx_multiple_scattering(lobe.fresnel.average(), wo.z, wi.z, lobe.shape);
       return {lobe.tint * f, ggx_g1(wo, alpha) * d / (4.f * wo.z)};
     }
     case LobeKind::ggx_refract: {
       if (!(wi.z < 0.f)) return {};
-      const float alpha = lobe.shape, eta = lobe.fresnel.eta;
+      const GgxAlpha alpha = lobe.alpha();
+      const float eta = lobe.fresnel.eta;
       Vec3f h = normalize(wo + wi * eta);  // the generalised half vector, up to its sign
       if (h.z < 0.f) h = -h;
       const float cos_oh = dot(wo, h), cos_ih = dot(wi, h);
@@ -302,12 +318,12 @@ inline std::optional<Vec3f> sample_lobe(const Lobe& lobe, const Vec3f& wo, float
       return wi;
     }
     case LobeKind::ggx_reflect: {
-      const Vec3f wi = reflect(wo, sample_ggx_visible_normal(wo, lobe.shape, u1, u2));
+      const Vec3f wi = reflect(wo, sample_ggx_visible_normal(wo, lobe.alpha(), u1, u2));
       if (!(wi.z > 0.f)) return std::nullopt;
       return wi;
     }
     case LobeKind::ggx_refract: {
-      const auto wi = refract(wo, sample_ggx_visible_normal(wo, lobe.shape, u1, u2), lobe.fresnel.eta);
+      const auto wi = refract(wo, sample_ggx_visible_normal(wo, lobe.alpha(), u1, u2), lobe.fresnel.eta);
       if (!wi || !(wi->z < 0.f)) return std::nullopt;
       return wi;
     }

@@ -46,11 +46,15 @@ struct PrincipledMaterial {
   float metallic = 0.f;
   float diffuse = 1.f;
   float specular = 1.f;
-  float ior = 1.5f;
+  float ior = 1.f;  ///< OSPRay's default: no specular interface (and no refraction) unless set
   float transmission = 0.f;
   Vec3f transmission_color{1.f, 1.f, 1.f};
   float transmission_depth = 1.f;  ///< 0 absorbs all but channels of transmissionColor 1
   float roughness = 0.f;
+  /// In [0, 1]: GGX stretched along the tangent (the surface's dP/ds), shrunk across it,
+  /// as OSPRay's (Burley 2012: alpha / aspect and alpha * aspect, aspect = sqrt(1 - 0.9 a)).
+  float anisotropy = 0.f;
+  float rotation = 0.f;  ///< in [0, 1]: turns the tangent about the normal by 2 pi rotation
   bool thin = false;
   float thickness = 1.f;
   float backlight = 0.f;  ///< thin only: in [0, 2], half of it is the diffuse part transmitted (1: as much as reflected)
@@ -66,7 +70,12 @@ struct PrincipledMaterial {
   float opacity = 1.f;
   Vec3f emissive_color{0.f, 0.f, 0.f};  ///< emissiveColor (radiance)
   float normal = 1.f;                   ///< how strongly map_normal tilts the normal
-  TextureMap map_base_color{}, map_roughness{}, map_metallic{}, map_opacity{};  ///< map_baseColor, ...
+  /// map_<parameter> of every parameter but thin and normal, as OSPRay's.
+  TextureMap map_base_color{}, map_edge_color{}, map_metallic{}, map_diffuse{}, map_specular{}, map_ior{},
+      map_transmission{}, map_transmission_color{}, map_transmission_depth{}, map_roughness{}, map_anisotropy{},
+      map_rotation{}, map_thickness{}, map_backlight{}, map_coat{}, map_coat_ior{}, map_coat_color{},
+      map_coat_thickness{}, map_coat_roughness{}, map_sheen{}, map_sheen_color{}, map_sheen_tint{},
+      map_sheen_roughness{}, map_opacity{}, map_emissive_color{};
   NormalMap map_normal{};
 };
 
@@ -222,7 +231,8 @@ void parameters_of(M& m, Read&& read) {
     read("baseColor", m.base_color), read("edgeColor", m.edge_color), read("metallic", m.metallic);
     read("diffuse", m.diffuse), read("specular", m.specular), read("ior", m.ior);
     read("transmission", m.transmission), read("transmissionColor", m.transmission_color);
-    read("transmissionDepth", m.transmission_depth), read("roughness", m.roughness), read("thin", m.thin);
+    read("transmissionDepth", m.transmission_depth), read("roughness", m.roughness);
+    read("anisotropy", m.anisotropy), read("rotation", m.rotation), read("thin", m.thin);
     read("thickness", m.thickness), read("backlight", m.backlight), read("coat", m.coat), read("coatIor", m.coat_ior);
     read("coatColor", m.coat_color), read("coatThickness", m.coat_thickness);
     read("coatRoughness", m.coat_roughness), read("sheen", m.sheen), read("sheenColor", m.sheen_color);
@@ -265,8 +275,17 @@ void maps_of(M& m, Map&& map) {
   if constexpr (std::is_same_v<T, ObjMaterial>) {
     map("map_kd", m.map_kd), map("map_ks", m.map_ks), map("map_ns", m.map_ns), map("map_d", m.map_d);
   } else if constexpr (std::is_same_v<T, PrincipledMaterial>) {
-    map("map_baseColor", m.map_base_color), map("map_roughness", m.map_roughness);
-    map("map_metallic", m.map_metallic), map("map_opacity", m.map_opacity);
+    map("map_baseColor", m.map_base_color), map("map_edgeColor", m.map_edge_color), map("map_metallic", m.map_metallic);
+    map("map_diffuse", m.map_diffuse), map("map_specular", m.map_specular), map("map_ior", m.map_ior);
+    map("map_transmission", m.map_transmission), map("map_transmissionColor", m.map_transmission_color);
+    map("map_transmissionDepth", m.map_transmission_depth), map("map_roughness", m.map_roughness);
+    map("map_anisotropy", m.map_anisotropy), map("map_rotation", m.map_rotation);
+    map("map_thickness", m.map_thickness), map("map_backlight", m.map_backlight), map("map_coat", m.map_coat);
+    map("map_coatIor", m.map_coat_ior), map("map_coatColor", m.map_coat_color);
+    map("map_coatThickness", m.map_coat_thickness), map("map_coatRoughness", m.map_coat_roughness);
+    map("map_sheen", m.map_sheen), map("map_sheenColor", m.map_sheen_color), map("map_sheenTint", m.map_sheen_tint);
+    map("map_sheenRoughness", m.map_sheen_roughness), map("map_opacity", m.map_opacity);
+    map("map_emissiveColor", m.map_emissive_color);
   } else if constexpr (std::is_same_v<T, LuminousMaterial>) {
     map("map_color", m.map_color);
   } else if constexpr (std::is_same_v<T, ThinGlassMaterial>) {
@@ -346,6 +365,13 @@ inline bool has_normal_map(const Material& material) {
       material);
 }
 
+/// Whether `material` reflects anisotropically (principled anisotropy > 0): its shading
+/// needs a tangent, the surface's texture derivative dP/ds.
+inline bool is_anisotropic(const Material& material) {
+  const auto* principled = std::get_if<PrincipledMaterial>(&material);
+  return principled && principled->anisotropy > 0.f;
+}
+
 /// The normal a clear coat with a normal of its own sees (carPaint's: the interpolated
 /// normal `n`, which map_normal does not tilt, tilted by map_coatNormal; the flakes lie
 /// along it too); nullopt where the coat shares the material's shading normal. Arguments as
@@ -385,12 +411,11 @@ void for_each_parameter(Material& material, Read&& read) {
 }
 
 /// Calls map(name, TextureMap&) for every texture map `material`'s type has, under its
-/// OSPRay name (obj: map_kd, map_ks, map_ns, map_d; principled: map_baseColor,
-/// map_roughness, map_metallic, map_opacity; luminous: map_color; thinGlass:
+/// OSPRay name map_<parameter>, as OSPRay 3 maps them (obj: map_kd, map_ks, map_ns, map_d;
+/// principled: every parameter but thin and normal; luminous: map_color; thinGlass:
 /// map_attenuationColor; metal: map_roughness; alloy: map_color, map_edgeColor,
-/// map_roughness; metallicPaint:
-/// map_baseColor; carPaint: map_<parameter> of every colour and float parameter but
-/// normal and coatNormal; other types have none).
+/// map_roughness; metallicPaint: map_baseColor; carPaint: every colour and float parameter
+/// but normal and coatNormal; other types have none).
 template <class Map>
 void for_each_map(Material& material, Map&& map) {
   std::visit([&](auto& m) { detail::maps_of(m, map); }, material);
@@ -404,12 +429,41 @@ inline bool has_maps(const Material& material) {
   return any;
 }
 
+namespace detail {
+/// More than any material type has parameters (or maps).
+inline constexpr std::size_t max_parameters = 32;
+
+/// For each parameter of type M (parameters_of's order), the index of its map (maps_of's
+/// order) or -1: map_<name> scales the parameter <name>. Paired by name once per type,
+/// so that resolving maps at a hit compares no strings.
+template <class M>
+const std::array<int, max_parameters>& map_of_parameter() {
+  static const std::array<int, max_parameters> table = [] {
+    std::array<int, max_parameters> pairs;
+    pairs.fill(-1);
+    const M m{};
+    std::array<std::string_view, max_parameters> names{};
+    std::size_t n = 0;
+    parameters_of(m, [&](const char* name, const auto&) { names[n++] = name; });
+    int k = 0;
+    maps_of(m, [&](const char* map, const TextureMap&) {
+      const std::string_view parameter = std::string_view(map).substr(4);  // map_kd: kd
+      for (std::size_t j = 0; j < n; ++j)
+        if (names[j] == parameter) pairs[j] = k;
+      ++k;
+    });
+    return pairs;
+  }();
+  return table;
+}
+}  // namespace detail
+
 /// The material at surface texture coordinates `uv`: `material` itself where it has no
 /// maps (no copy: the untextured path costs a test), otherwise `storage`, filled with its
 /// parameters times their maps (scalar maps by the first channel; parameters in [0, 1]
-/// stay there; the alpha of obj map_kd and principled map_baseColor multiplies the opacity)
-/// and no maps. Shared textures are not copied, so the many threads that
-/// shade one textured material contend on no reference count.
+/// stay there, as OSPRay clamps them; the alpha of obj map_kd and principled map_baseColor
+/// multiplies the opacity) and no maps. Shared textures are not copied, so the many threads
+/// that shade one textured material contend on no reference count.
 inline const Material& textured(const Material& material, const TexCoord<float>& uv, Material& storage) {
   if (!has_maps(material)) return material;
   std::visit(
@@ -417,59 +471,48 @@ inline const Material& textured(const Material& material, const TexCoord<float>&
         using M = std::decay_t<decltype(m)>;
         // The parameters alone, field by field: copying m would copy its maps.
         M& out = storage.emplace<M>();
-        std::array<const void*, 32> from{};
+        std::array<const void*, detail::max_parameters> from{};
+        std::array<const TextureMap*, detail::max_parameters> maps{};
         std::size_t n = 0;
         detail::parameters_of(m, [&](const char*, const auto& field) { from[n++] = &field; });
         n = 0;
+        detail::maps_of(m, [&](const char*, const TextureMap& map) { maps[n++] = &map; });
+        const auto& map_of = detail::map_of_parameter<M>();
+        n = 0;
         detail::parameters_of(out, [&](const char*, auto& field) {
-          field = *static_cast<const std::remove_reference_t<decltype(field)>*>(from[n++]);
-        });
-        const auto scale = [&](const TextureMap& map, auto& field) {
-          if (!map) return;
-          const Vec3f t = map.at(uv);
           using Field = std::remove_reference_t<decltype(field)>;
+          field = *static_cast<const Field*>(from[n]);
+          const int k = map_of[n++];
+          if (k < 0 || !*maps[k]) return;
+          const Vec3f t = maps[k]->at(uv);
           if constexpr (std::is_same_v<Field, Vec3f>)
             field = field * t;
           else if constexpr (std::is_same_v<Field, std::optional<Vec3f>>)
             field = field.value_or(Vec3f{1.f, 1.f, 1.f}) * t;
-          else
+          else if constexpr (std::is_same_v<Field, float>)
             field = field * t.x;
-        };
-        const auto unit = [](float& v) { v = std::min(v, 1.f); };
+        });
+        const auto unit = [](auto&... v) { ((v = std::min(v, 1.f)), ...); };
         // The colour map's alpha is opacity too (OSPRay's OBJ and Principled materials).
         const auto cut_out = [&](const TextureMap& map, float& opacity) {
           if (map.alpha) opacity *= map.alpha_at(uv);
         };
+        // Ranges a texel above 1 could leave; carPaint's are kept where the BSDF reads
+        // them (render/bsdf_paint.hpp), as OSPRay clamps.
         if constexpr (std::is_same_v<M, ObjMaterial>) {
-          scale(m.map_kd, out.kd), scale(m.map_ks, out.ks), scale(m.map_ns, out.ns), scale(m.map_d, out.d);
           cut_out(m.map_kd, out.d);
           unit(out.d);
         } else if constexpr (std::is_same_v<M, PrincipledMaterial>) {
-          scale(m.map_base_color, out.base_color), scale(m.map_roughness, out.roughness);
-          scale(m.map_metallic, out.metallic), scale(m.map_opacity, out.opacity);
-          unit(out.roughness), unit(out.metallic), unit(out.opacity);
+          unit(out.metallic, out.diffuse, out.specular, out.transmission, out.roughness, out.anisotropy, out.rotation,
+               out.coat, out.coat_roughness, out.sheen, out.sheen_tint, out.sheen_roughness, out.opacity);
+          out.backlight = std::min(out.backlight, 2.f);
+          // A mapped index stays in [1/3, 3], where OSPRay clamps every relative index (its
+          // albedo tables' range), so that a texel 0 does not make it 0.
+          if (m.map_ior) out.ior = std::clamp(out.ior, 1.f / 3.f, 3.f);
+          if (m.map_coat_ior) out.coat_ior = std::clamp(out.coat_ior, 1.f / 3.f, 3.f);
           cut_out(m.map_base_color, out.opacity);
-        } else if constexpr (std::is_same_v<M, LuminousMaterial>) {
-          scale(m.map_color, out.color);
-        } else if constexpr (std::is_same_v<M, ThinGlassMaterial>) {
-          scale(m.map_attenuation_color, out.attenuation_color);
-        } else if constexpr (std::is_same_v<M, MetalMaterial>) {
-          scale(m.map_roughness, out.roughness);
+        } else if constexpr (std::is_same_v<M, MetalMaterial> || std::is_same_v<M, AlloyMaterial>) {
           unit(out.roughness);
-        } else if constexpr (std::is_same_v<M, AlloyMaterial>) {
-          scale(m.map_color, out.color), scale(m.map_edge_color, out.edge_color), scale(m.map_roughness, out.roughness);
-          unit(out.roughness);
-        } else if constexpr (std::is_same_v<M, MetallicPaintMaterial>) {
-          scale(m.map_base_color, out.base_color);
-        } else if constexpr (std::is_same_v<M, CarPaintMaterial>) {
-          // Ranges are kept where the BSDF reads them (render/bsdf_paint.hpp), as OSPRay clamps.
-          scale(m.map_base_color, out.base_color), scale(m.map_roughness, out.roughness);
-          scale(m.map_flake_color, out.flake_color), scale(m.map_flake_scale, out.flake_scale);
-          scale(m.map_flake_density, out.flake_density), scale(m.map_flake_spread, out.flake_spread);
-          scale(m.map_flake_jitter, out.flake_jitter), scale(m.map_flake_roughness, out.flake_roughness);
-          scale(m.map_coat, out.coat), scale(m.map_coat_ior, out.coat_ior), scale(m.map_coat_color, out.coat_color);
-          scale(m.map_coat_thickness, out.coat_thickness), scale(m.map_coat_roughness, out.coat_roughness);
-          scale(m.map_flipflop_color, out.flipflop_color), scale(m.map_flipflop_falloff, out.flipflop_falloff);
         }
       },
       material);
@@ -577,6 +620,8 @@ inline void validate(const Material& material) {
           require(finite_non_negative(m.transmission_color), type, "transmissionColor", "must be finite and not negative");
           require(non_negative(m.transmission_depth), type, "transmissionDepth", "must be finite and not negative");
           require(in_unit(m.roughness), type, "roughness", "must be in [0, 1]");
+          require(in_unit(m.anisotropy), type, "anisotropy", "must be in [0, 1]");
+          require(in_unit(m.rotation), type, "rotation", "must be in [0, 1]");
           require(positive(m.thickness), type, "thickness", "must be positive");
           require(m.backlight >= 0.f && m.backlight <= 2.f, type, "backlight", "must be in [0, 2]");
           require(in_unit(m.coat), type, "coat", "must be in [0, 1]");

@@ -53,6 +53,21 @@ struct Frame {
   Vec3f t, b, n;
   Frame() = default;
   explicit Frame(const Vec3f& normal) : t(perpendicular(normal)), b(cross(normal, t)), n(normal) {}
+  /// With local x along `tangent` made perpendicular to the normal (as OSPRay's shading
+  /// frame takes dP/ds); any tangent where that is 0 or parallel to the normal.
+  Frame(const Vec3f& normal, const Vec3f& tangent) : Frame(normal) {
+    const Vec3f in_plane = tangent - normal * dot(tangent, normal);
+    const float l = length(in_plane);
+    if (!(l > 1e-6f * length(tangent)) || !std::isfinite(l)) return;
+    t = in_plane / l, b = cross(normal, t);
+  }
+  /// This frame with its tangent turned about the normal by `radians` (towards b).
+  Frame turned(float radians) const {
+    Frame f = *this;
+    f.t = t * std::cos(radians) + b * std::sin(radians);
+    f.b = cross(n, f.t);
+    return f;
+  }
   Vec3f to_local(const Vec3f& v) const { return {dot(v, t), dot(v, b), dot(v, n)}; }
   Vec3f to_world(const Vec3f& v) const { return t * v.x + b * v.y + n * v.z; }
 };
@@ -156,30 +171,47 @@ inline SheetResponse thin_sheet(float cos_i, float eta, float scale, const Vec3f
 
 // ---- GGX (Walter et al. 2007; Heitz 2014, 2018), local frame with z the normal ---------
 
-/// Isotropic GGX normal distribution, written with the tangential part so that tiny alpha
-/// does not cancel catastrophically.
-inline float ggx_d(const Vec3f& h, float alpha) {
+/// GGX alpha along the local x axis (the tangent) and y; isotropic where they are equal.
+struct GgxAlpha {
+  float x, y;
+  GgxAlpha(float alpha) : x(alpha), y(alpha) {}  // implicit: an isotropic alpha is one
+  GgxAlpha(float along, float across) : x(along), y(across) {}
+};
+/// OSPRay's anisotropic alpha (after Burley 2012, "Physically Based Shading at Disney"):
+/// isotropic `alpha` stretched along the tangent and shrunk across it by the aspect
+/// sqrt(1 - 0.9 anisotropy), their product kept.
+inline GgxAlpha anisotropic_alpha(float alpha, float anisotropy) {
+  if (!(anisotropy > 0.f)) return alpha;
+  const float aspect = std::sqrt(1.f - 0.9f * std::min(anisotropy, 1.f));
+  return {alpha / aspect, alpha * aspect};
+}
+
+/// GGX normal distribution, written with the tangential part so that tiny alpha does not
+/// cancel catastrophically.
+inline float ggx_d(const Vec3f& h, GgxAlpha alpha) {
   if (!(h.z > 0.f)) return 0.f;
-  const float a2 = alpha * alpha;
-  const float t = (h.x * h.x + h.y * h.y) / a2 + h.z * h.z;
-  return 1.f / (pi * a2 * t * t);
+  const float x = h.x / alpha.x, y = h.y / alpha.y;
+  const float t = x * x + y * y + h.z * h.z;
+  return 1.f / (pi * alpha.x * alpha.y * t * t);
 }
 /// Smith's Lambda for GGX; infinite for a direction in the tangent plane.
-inline float ggx_lambda(const Vec3f& w, float alpha) {
+inline float ggx_lambda(const Vec3f& w, GgxAlpha alpha) {
   const float z2 = w.z * w.z;
   if (!(z2 > 0.f)) return std::numeric_limits<float>::infinity();
-  const float tan2 = std::max(0.f, 1.f - z2) / z2;
-  return 0.5f * (std::sqrt(1.f + alpha * alpha * tan2) - 1.f);
+  // alpha² tan²θ, the alpha of w's azimuth (Heitz 2014, eq. 80).
+  const float ax = alpha.x * w.x, ay = alpha.y * w.y;
+  const float a2_tan2 = alpha.x == alpha.y ? alpha.x * alpha.x * std::max(0.f, 1.f - z2) / z2 : (ax * ax + ay * ay) / z2;
+  return 0.5f * (std::sqrt(1.f + a2_tan2) - 1.f);
 }
-inline float ggx_g1(const Vec3f& w, float alpha) { return 1.f / (1.f + ggx_lambda(w, alpha)); }
+inline float ggx_g1(const Vec3f& w, GgxAlpha alpha) { return 1.f / (1.f + ggx_lambda(w, alpha)); }
 /// Height-correlated masking-shadowing (Heitz 2014, eq. 99; used for transmission too).
-inline float ggx_g2(const Vec3f& wo, const Vec3f& wi, float alpha) {
+inline float ggx_g2(const Vec3f& wo, const Vec3f& wi, GgxAlpha alpha) {
   return 1.f / (1.f + ggx_lambda(wo, alpha) + ggx_lambda(wi, alpha));
 }
 /// A microfacet normal drawn from the normals visible from wo (wo.z > 0), with density
 /// G1(wo) max(0, wo·h) D(h) / wo.z (Heitz 2018, listing 1).
-inline Vec3f sample_ggx_visible_normal(const Vec3f& wo, float alpha, float u1, float u2) {
-  const Vec3f v = normalize(Vec3f{alpha * wo.x, alpha * wo.y, wo.z});  // to the hemisphere configuration
+inline Vec3f sample_ggx_visible_normal(const Vec3f& wo, GgxAlpha alpha, float u1, float u2) {
+  const Vec3f v = normalize(Vec3f{alpha.x * wo.x, alpha.y * wo.y, wo.z});  // to the hemisphere configuration
   const float len2 = v.x * v.x + v.y * v.y;
   const Vec3f t1 = len2 > 0.f ? Vec3f{-v.y, v.x, 0.f} / std::sqrt(len2) : Vec3f{1.f, 0.f, 0.f};
   const Vec3f t2 = cross(v, t1);
@@ -188,7 +220,7 @@ inline Vec3f sample_ggx_visible_normal(const Vec3f& wo, float alpha, float u1, f
   const float s = 0.5f * (1.f + v.z);
   const float p2 = (1.f - s) * std::sqrt(std::max(0.f, 1.f - p1 * p1)) + s * r * std::sin(phi);
   const Vec3f nh = t1 * p1 + t2 * p2 + v * std::sqrt(std::max(0.f, 1.f - p1 * p1 - p2 * p2));
-  return normalize(Vec3f{alpha * nh.x, alpha * nh.y, std::max(nh.z, 0.f)});
+  return normalize(Vec3f{alpha.x * nh.x, alpha.y * nh.y, std::max(nh.z, 0.f)});
 }
 
 inline Vec3f reflect(const Vec3f& wo, const Vec3f& h) { return h * (2.f * dot(wo, h)) - wo; }

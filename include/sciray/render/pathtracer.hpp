@@ -80,7 +80,11 @@ public:
     if (!(params_.max_contribution > 0.f)) throw Error("pathtracer renderer: parameter 'maxContribution' must be positive");
     // No light samples (as OSPRay's lightSamples 0): lights are found by BSDF sampling only.
     if (params_.light_samples == 0) params_.light_sampling = LightSampling::bsdf_only;
-    for (const Material& m : params_.materials) normal_mapped_.push_back(has_normal_map(m));
+    for (const Material& m : params_.materials) {
+      normal_mapped_.push_back(has_normal_map(m));
+      anisotropic_.push_back(is_anisotropic(m));
+      derivatives_needed_.push_back(normal_mapped_.back() || anisotropic_.back());
+    }
   }
 
   PixelSample<Arch> render(const Ray<F>& camera_ray, const M& active, const SampleIndex<Arch>& index = {}) const {
@@ -136,7 +140,7 @@ public:
             vertex[i].kind = Vertex::Kind::surface;
             vertex[i].surface = s;
           },
-          &normal_mapped_);
+          &derivatives_needed_);
 
       // Light found by the BSDF-sampled ray (or seen by the camera), and emission.
       for (int i = 0; i < W; ++i) {
@@ -178,6 +182,7 @@ public:
         const Vec3f n = mapped ? mapped_normal(material(s), s.n, s.dpds, s.dpdt, s.uv) : s.n;
         const auto coat_n = mapped ? mapped_coat_normal(material(s), s.n, s.dpds, s.dpdt, s.uv) : std::nullopt;
         p.sp = {n, s.ng, s.front, s.color, s.alpha, s.p, coat_n};
+        if (s.material != no_material && anisotropic_[s.material]) p.sp.tangent = s.dpds;
         p.p = s.p;
         p.offset = detail::ray_offset(s.p, s.t, s.epsilon);
         p.material = &textured(material(s), s.uv, p.textured_material);
@@ -583,7 +588,9 @@ private:
   const WorldT* world_;
   PathTracerParams params_;
   GeometryLights<WorldT> geometry_lights_;  ///< emissive geometry, for light sampling
-  std::vector<bool> normal_mapped_;  ///< per material: has a normal map
+  std::vector<bool> normal_mapped_;       ///< per material: has a normal map
+  std::vector<bool> anisotropic_;         ///< per material: reflects anisotropically (is_anisotropic)
+  std::vector<bool> derivatives_needed_;  ///< per material: either, so its hits need dP/ds and dP/dt
 };
 
 }  // namespace sciray

@@ -74,12 +74,14 @@ simd::Float<Arch> exp(const simd::Float<Arch>& x) {
     return xsimd::exp(x);
 }
 
-/// Whether `m` has a map that changes its opacity (obj map_d or map_kd's alpha, principled
-/// map_opacity or map_baseColor's alpha).
+/// Whether `m` has a map that changes its opacity or what passes it (obj map_d or map_kd's
+/// alpha; principled map_opacity, map_baseColor's alpha, map_transmission or
+/// map_transmissionColor).
 inline bool opacity_mapped(const Material& m) {
   if (const auto* obj = std::get_if<ObjMaterial>(&m)) return obj->map_d || obj->map_kd.alpha;
   if (const auto* principled = std::get_if<PrincipledMaterial>(&m))
-    return principled->map_opacity || principled->map_base_color.alpha;
+    return principled->map_opacity || principled->map_base_color.alpha || principled->map_transmission ||
+           principled->map_transmission_color;
   return false;
 }
 
