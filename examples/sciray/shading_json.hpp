@@ -4,6 +4,8 @@
 // or {"type": "sphere", "position": [0, 2, 0], "radius": 0.2, "intensity": 10}.
 // A material's maps are image files (PNG or PFM): {"type": "obj", "map_kd": "colormap.png"},
 // with OSPRay's "map_kd.rotation" (degrees), "map_kd.scale" and "map_kd.translation" ([u, v]).
+// A mix holds its two materials as objects of their own:
+// {"type": "mix", "material1": {"type": "obj"}, "material2": {"type": "metal"}, "factor": 0.3}.
 #include <fstream>
 #include <set>
 #include <string>
@@ -101,6 +103,12 @@ public:
     if (scale.u == 0.f || scale.v == 0.f) throw sciray::Error(what_ + ": \"" + key + ".scale\" must not be zero");
     map.transform = sciray::TexCoordTransform::of_texture(rotation, scale, translation);
   }
+  /// The JSON object `key`, or null where it is not given.
+  const nlohmann::json* object(const char* key) {
+    if (!take(key)) return nullptr;
+    if (!j_[key].is_object()) throw sciray::Error(what_ + ": \"" + key + "\" must be a JSON object");
+    return &j_[key];
+  }
   /// Throws for keys nothing read: a misspelt parameter must not be silently ignored.
   void check_all_used() const {
     for (const auto& [key, value] : j_.items())
@@ -142,6 +150,12 @@ inline sciray::Material material_from_json(const nlohmann::json& j, const std::s
     const std::string name = key;
     p.read_map(name, map, name == "map_kd" || name == "map_ks" || name == "map_baseColor");
   });
+  if (auto* mix = std::get_if<sciray::MixMaterial>(&*material)) {
+    if (const nlohmann::json* part = p.object("material1"))
+      mix->material1 = sciray::mix_part(material_from_json(*part, what + " material1"));
+    if (const nlohmann::json* part = p.object("material2"))
+      mix->material2 = sciray::mix_part(material_from_json(*part, what + " material2"));
+  }
   p.check_all_used();
   try {
     sciray::validate(*material);

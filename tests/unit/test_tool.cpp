@@ -277,6 +277,28 @@ TEST_CASE("sciray render: the path tracer, ao and scivis with materials and ligh
                           scratch("lysozyme_ao.png").string());
   INFO(ao.output);
   CHECK(ao.exit_code == 0);
+
+  // A mix of a red and a blue Lambertian under an ambient light, one bounce: every pixel of
+  // the bunny shows 0.75 of red to 0.25 of blue (the obj of the mixed kd), no green.
+  const auto mixed = scratch("bunny_mix.pfm");
+  const Run mix = run_tool(
+      "render " SCIRAY_DATA_DIR "/meshes/bunny.ply --renderer pathtracer --size 24x24 --spp 4 --max-path-length 1 "
+      "--material '{\"type\":\"mix\",\"factor\":0.25,\"material1\":{\"type\":\"obj\",\"kd\":[1,0,0]},"
+      "\"material2\":{\"type\":\"obj\",\"kd\":[0,0,1]}}' --light '{\"type\":\"ambient\",\"intensity\":1}' -o " +
+      mixed.string());
+  INFO(mix.output);
+  REQUIRE(mix.exit_code == 0);
+  const auto mixed_image = sciray::io::read_pfm(mixed);
+  double red = 0., blue = 0.;
+  int bunny = 0;
+  for (int y = 0; y < mixed_image.height; ++y)
+    for (int x = 0; x < mixed_image.width; ++x)
+      if (mixed_image.at(x, y, 1) == 0.f && mixed_image.at(x, y, 0) > 0.f) {
+        ++bunny;
+        red += mixed_image.at(x, y, 0), blue += mixed_image.at(x, y, 2);
+      }
+  CHECK(bunny > 50);
+  CHECK(red / blue == Approx(3.).epsilon(1e-3));
 }
 
 TEST_CASE("sciray render: the pathtracer scatters in a real volume by --anisotropy", "[tool][renderers][volume]") {
@@ -320,6 +342,13 @@ TEST_CASE("sciray render: bad renderers, materials and lights are named", "[tool
   CHECK_THAT(error_of("--material '{\"type\":\"obj\",\"kdd\":0.5}'"), Catch::Contains("unknown parameter \"kdd\""));
   CHECK_THAT(error_of("--material '{\"type\":\"metal\",\"roughness\":2}'"),
              Catch::Contains("metal material: parameter 'roughness' must be in [0, 1]"));
+  CHECK_THAT(error_of("--material '{\"type\":\"mix\",\"material1\":{\"type\":\"obj\"}}'"),
+             Catch::Contains("mix material: parameter 'material2' (the material it mixes) is missing"));
+  CHECK_THAT(error_of("--material '{\"type\":\"mix\",\"material1\":{\"type\":\"obj\",\"d\":3},"
+                      "\"material2\":{\"type\":\"metal\"}}'"),
+             Catch::Contains("--material 1 material1: obj material: parameter 'd' must be in [0, 1]"));
+  CHECK_THAT(error_of("--material '{\"type\":\"mix\",\"material1\":[1],\"material2\":{\"type\":\"metal\"}}'"),
+             Catch::Contains("\"material1\" must be a JSON object"));
   CHECK_THAT(error_of("--light '{\"type\":\"spot\",\"openingAngle\":0}'"),
              Catch::Contains("spot light: parameter 'openingAngle' must be in (0, 360] degrees"));
   CHECK_THAT(error_of("--light '{\"type\":\"sun\"}'"), Catch::Contains("unknown light type 'sun'"));

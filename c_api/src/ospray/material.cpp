@@ -46,12 +46,32 @@ TexCoordTransform Material::map_transform(const std::string& map) const {
   return transform;
 }
 
+bool Material::contains(const Material* material) const {
+  return material == this || (material1_ && material1_->contains(material)) ||
+         (material2_ && material2_->contains(material));
+}
+
+Ref<Material> Material::mix_part(const std::string& id) const {
+  Ref<Material> part(get_object<Material>(id, OSP_MATERIAL, true));
+  // A mix that contained itself would be mixed without end.
+  if (part->contains(this))
+    throw Error(name() + ": parameter '" + id + "' is this mix or contains it: a mix cannot contain itself");
+  if (!part->committed()) throw Error(name() + ": parameter '" + id + "': its material has not been committed");
+  return part;
+}
+
 void Material::on_commit() {
   // The factory creates only types the engine has.
   sciray::Material material = *material_of_type(subtype());
   if (subtype() == "metal" && find("ior"))
     throw Error(name() + ": parameter 'ior' (a spectral array) is not supported; pass RGB 'eta' and 'k'");
   for_each_parameter(material, [&](const char* id, auto& field) { read_into(id, field); });
+  Ref<Material> material1, material2;
+  if (auto* mix = std::get_if<MixMaterial>(&material)) {
+    material1 = mix_part("material1"), material2 = mix_part("material2");
+    mix->material1 = sciray::mix_part(material1->material());
+    mix->material2 = sciray::mix_part(material2->material());
+  }
   try {
     validate(material);
   } catch (const Error& e) {
@@ -105,6 +125,7 @@ void Material::on_commit() {
     if (texture->normal_image()) image_maps.push_back({map, std::move(texture), transform});
   });
   material_ = std::move(material);
+  material1_ = std::move(material1), material2_ = std::move(material2);
   volume_map_kd_ = std::move(volume_map_kd);
   volume_map_transform_ = volume_transform;
   image_maps_ = std::move(image_maps);
@@ -141,6 +162,11 @@ sciray::Material Material::material() const {
     for (const ImageMap& image : image_maps_)
       if (image.name == id) map = {{image.texture->normal_image(), image.transform, nullptr}};
   });
+  // The parts as they are now: a part committed again changes the mix (as in OSPRay).
+  if (auto* mix = std::get_if<MixMaterial>(&m)) {
+    mix->material1 = sciray::mix_part(material1_->material());
+    mix->material2 = sciray::mix_part(material2_->material());
+  }
   return m;
 }
 
@@ -167,6 +193,8 @@ sciray::Material Material::with_base_color(const Vec3f& color) const {
 std::uint64_t Material::version() const {
   std::uint64_t v = std::max(version_, volume_map_kd_ ? volume_map_kd_->version() : 0);
   for (const ImageMap& image : image_maps_) v = std::max(v, image.texture->version());
+  for (const Material* part : {material1_.get(), material2_.get()})
+    if (part) v = std::max(v, part->version());
   return v;
 }
 

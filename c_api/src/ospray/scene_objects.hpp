@@ -220,13 +220,18 @@ public:
   TextureObject* volume_map_kd() const { return volume_map_kd_.get(); }
   /// Where the volume texture samples a point of the surface (its affine3f `map_kd.transform`).
   const Affine3f& volume_map_transform() const { return volume_map_transform_; }
-  /// Also counts the textures' commits.
+  /// Also counts the textures' commits, and a mix's parts'.
   std::uint64_t version() const override;
 
 protected:
   void on_commit() override;
 
 private:
+  /// Whether `material` is this one or one of its parts, at any depth (a mix's).
+  bool contains(const Material* material) const;
+  /// A mix's `material1` and `material2`, checked: committed, and not containing this mix.
+  Ref<Material> mix_part(const std::string& id) const;
+
   /// A texture2d map: the material's map `name` shows `texture` through `transform`.
   struct ImageMap {
     std::string name;
@@ -240,6 +245,7 @@ private:
   Ref<TextureObject> volume_map_kd_;
   Affine3f volume_map_transform_;
   std::vector<ImageMap> image_maps_;
+  Ref<Material> material1_, material2_;  ///< a mix's parts, whose current material() material() mixes
 };
 
 /// The primitives of OSPRay's `box` geometry, as committed.

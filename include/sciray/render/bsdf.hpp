@@ -22,6 +22,11 @@
 // nor do rough coats and principled's rough specular layer (OSPRay's do: they reflect a
 // little less at grazing angles here).
 //
+// A mix (MixMaterial) is not one list of lobes but its two parts' BSDFs, each with its own
+// layers, weighted by 1 - factor and factor, as OSPRay's MultiBSDF: eval() sums them so
+// weighted; sample() picks a part in that proportion and weights a non-delta direction by
+// the whole mix.
+//
 // Refraction does not scale radiance by 1/eta² (neither does OSPRay): the weights are
 // those of importance transport, so a path that enters and leaves a glass body keeps its
 // throughput.
@@ -31,6 +36,7 @@
 #include <array>
 #include <cmath>
 #include <optional>
+#include <utility>
 #include <variant>
 
 #include "sciray/math/vec.hpp"
@@ -199,7 +205,12 @@ inline Bsdf make_bsdf(const Material& material, const ShadingPoint& sp, const Ve
   b.frames[0] = Frame(facing(sp.coat_n.value_or(sp.n), wo, sp.ng), sp.tangent);
   b.wos[0] = b.frames[0].to_local(wo);
   if (!(b.wo().z > 0.f)) return b;
-  std::visit([&](const auto& m) { build(b, m, sp); }, material);
+  std::visit(
+      [&](const auto& m) {
+        // eval() and sample() take a mix apart into its parts before they build lobes.
+        if constexpr (!std::is_same_v<std::decay_t<decltype(m)>, MixMaterial>) build(b, m, sp);
+      },
+      material);
   b.finish();
   return b;
 }
@@ -225,10 +236,40 @@ inline BsdfValue evaluate(const Bsdf& b, const ShadingPoint& sp, const Vec3f& wi
   return result;
 }
 
+/// A mix's factor at the shading point: `factor` times its map's first channel, which is
+/// clamped to [0, 1] (as OSPRay's).
+inline float mix_factor(const MixMaterial& mix, const ShadingPoint& sp) {
+  return mix.map_factor ? mix.factor * std::clamp(mix.map_factor.at(sp.uv).x, 0.f, 1.f) : mix.factor;
+}
+
+/// Calls f(part, weight) for each part of `mix` that has weight (1 - factor for material1,
+/// factor for material2), the part's maps read at the shading point.
+template <class Fn>
+void for_each_mix_part(const MixMaterial& mix, const ShadingPoint& sp, Fn&& f) {
+  const float factor = mix_factor(mix, sp);
+  const std::pair<const MixPart*, float> parts[] = {{mix.material1.get(), 1.f - factor}, {mix.material2.get(), factor}};
+  for (const auto& [part, weight] : parts) {
+    if (!(weight > 0.f)) continue;
+    Material storage;
+    f(textured(part->material, sp.uv, storage), weight);
+  }
+}
+
 }  // namespace bsdf_detail
 
 /// f(wo, wi)·|cos θi| of the non-delta lobes and the pdf with which sample() draws wi.
 inline BsdfValue eval(const Material& m, const ShadingPoint& sp, const Vec3f& wo, const Vec3f& wi) {
+  if (const auto* mix = std::get_if<MixMaterial>(&m)) {
+    // The parts' weights sum to 1, so the weighted pdfs are the pdf of picking a part by
+    // its weight and then sampling it.
+    BsdfValue sum;
+    bsdf_detail::for_each_mix_part(*mix, sp, [&](const Material& part, float weight) {
+      const BsdfValue v = eval(part, sp, wo, wi);
+      sum.f_cos += v.f_cos * weight;
+      sum.pdf += v.pdf * weight;
+    });
+    return sum;
+  }
   const bsdf_detail::Bsdf b = bsdf_detail::make_bsdf(m, sp, wo);
   return b.count > 0 ? bsdf_detail::evaluate(b, sp, wi) : BsdfValue{};
 }
@@ -237,6 +278,28 @@ inline BsdfValue eval(const Material& m, const ShadingPoint& sp, const Vec3f& wo
 inline std::optional<BsdfSample> sample(const Material& m, const ShadingPoint& sp, const Vec3f& wo, float u_lobe,
                                         float u1, float u2) {
   using namespace bsdf_detail;
+  if (const auto* mix = std::get_if<MixMaterial>(&m)) {
+    // u_lobe picks the part by its weight and, rescaled, the part's lobe.
+    const float factor = mix_factor(*mix, sp);
+    const bool second = !(u_lobe < 1.f - factor);
+    const float picked = second ? factor : 1.f - factor;
+    const float u_part = std::min((second ? u_lobe - (1.f - factor) : u_lobe) / picked, 0x1.fffffep-1f);
+    Material storage;
+    const Material& part = textured((second ? mix->material2 : mix->material1)->material, sp.uv, storage);
+    std::optional<BsdfSample> s = sample(part, sp, wo, u_part, u1, u2);
+    if (!s) return std::nullopt;
+    // A delta direction only this part has: the pick's probability cancels the part's weight.
+    if (s->delta) {
+      s->pdf *= picked;
+      return s;
+    }
+    const BsdfValue v = eval(m, sp, wo, s->wi);  // the whole mix, as eval() reports it
+    if (!(v.pdf > 0.f)) return std::nullopt;
+    s->weight = v.f_cos / v.pdf;
+    s->pdf = v.pdf;
+    if (!finite_non_negative(s->weight) || !(max_component(s->weight) > 0.f)) return std::nullopt;
+    return s;
+  }
   const Bsdf b = make_bsdf(m, sp, wo);
   if (b.count == 0) return std::nullopt;
   int chosen = 0;
@@ -267,8 +330,14 @@ inline std::optional<BsdfSample> sample(const Material& m, const ShadingPoint& s
   return BsdfSample{wi, weight, v.pdf, false, dot(wi, sp.ng) < 0.f};
 }
 
-/// Radiance emitted towards wo: luminous color·intensity (both faces), principled emissiveColor.
-inline Vec3f emitted(const Material& m, const ShadingPoint& sp, const Vec3f& /*wo*/) {
+/// Radiance emitted towards wo: luminous color·intensity (both faces), principled
+/// emissiveColor, a mix's parts' weighted by its plain `factor` (OSPRay's: not by map_factor).
+inline Vec3f emitted(const Material& m, const ShadingPoint& sp, const Vec3f& wo) {
+  if (const auto* mix = std::get_if<MixMaterial>(&m)) {
+    Material storage1, storage2;
+    return emitted(textured(mix->material1->material, sp.uv, storage1), sp, wo) * (1.f - mix->factor) +
+           emitted(textured(mix->material2->material, sp.uv, storage2), sp, wo) * mix->factor;
+  }
   if (const auto* luminous = std::get_if<LuminousMaterial>(&m)) return luminous->color * sp.color * luminous->intensity;
   if (const auto* principled = std::get_if<PrincipledMaterial>(&m)) return principled->emissive_color;
   return splat(0.f);
@@ -299,6 +368,12 @@ inline Vec3f albedo(const Material& material, const ShadingPoint& sp) {
           return clamp01(m.base_color * sp.color);
         } else if constexpr (std::is_same_v<M, PlasticMaterial>) {
           return clamp01(m.pigment_color);
+        } else if constexpr (std::is_same_v<M, MixMaterial>) {
+          Vec3f sum{0.f, 0.f, 0.f};
+          bsdf_detail::for_each_mix_part(m, sp, [&](const Material& part, float weight) {
+            sum += albedo(part, sp) * weight;
+          });
+          return sum;
         } else {
           return splat(1.f);  // glass, thinGlass
         }

@@ -21,6 +21,7 @@
 #include <cmath>
 #include <optional>
 
+#include "sciray/geometry/surface.hpp"
 #include "sciray/math/vec.hpp"
 #include "sciray/render/microfacet.hpp"
 
@@ -37,6 +38,8 @@ struct ShadingPoint {
   /// The normal of a coat that does not share n (carPaint's: see mapped_coat_normal), on
   /// the side of wo as n; none: the coat's normal is n.
   std::optional<Vec3f> coat_n{};
+  /// The surface's texture coordinates, where a mix reads its factor map and its parts' maps.
+  TexCoord<float> uv{0.f, 0.f};
   /// Where the material is anisotropic: the direction of its tangent, dP/ds (not yet
   /// perpendicular to n, not unit); zero: any tangent.
   Vec3f tangent{0.f, 0.f, 0.f};

@@ -29,11 +29,17 @@
 namespace sciray {
 
 /// How strongly `m` emits, before textures and geometry colours: the largest component
-/// of luminous color * intensity or of principled emissiveColor; 0 for the rest.
+/// of luminous color * intensity or of principled emissiveColor, a mix's parts' weighted by
+/// its factor; 0 for the rest.
 inline float emission_strength(const Material& m) {
   const auto peak = [](const Vec3f& c) { return std::max({c.x, c.y, c.z}); };
   if (const auto* luminous = std::get_if<LuminousMaterial>(&m)) return peak(luminous->color) * luminous->intensity;
   if (const auto* principled = std::get_if<PrincipledMaterial>(&m)) return peak(principled->emissive_color);
+  if (const auto* mix = std::get_if<MixMaterial>(&m)) {
+    // Called before the renderer validates its materials: a missing part emits nothing.
+    const auto part = [&](const std::shared_ptr<const MixPart>& p) { return p ? emission_strength(p->material) : 0.f; };
+    return part(mix->material1) * (1.f - mix->factor) + part(mix->material2) * mix->factor;
+  }
   return 0.f;
 }
 

@@ -11,6 +11,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -187,18 +188,43 @@ struct PlasticMaterial {
   float roughness = 0.01f;
 };
 
+struct MixPart;
+
+/// OSPRay `mix`: two materials blended by `factor` (times `map_factor`, clamped to [0, 1]):
+/// the path tracer scatters as (1 - factor)·material1 + factor·material2 (and picks between
+/// their BSDFs in that proportion), emits (1 - factor)·emission1 + factor·emission2 by the
+/// plain `factor` (OSPRay's, which its map leaves out) and lets through their mixed
+/// transparency. The parts are materials of any type, mixes too (make them with mix_part);
+/// they are shared, not copied, and immutable, so a mix cannot contain itself. The parts'
+/// texture maps are read at the mix's surface coordinates; their normal maps are not applied.
+struct MixMaterial {
+  std::shared_ptr<const MixPart> material1, material2;
+  float factor = 0.5f;
+  TextureMap map_factor{};
+};
+
 /// The material index of geometries added without one: they show their own colours,
 /// 0.8 grey where they have none.
 inline constexpr std::uint32_t no_material = 0xffffffffu;
 
 using Material = std::variant<ObjMaterial, PrincipledMaterial, GlassMaterial, ThinGlassMaterial, MetalMaterial,
                               AlloyMaterial, LuminousMaterial, VelvetMaterial, MetallicPaintMaterial, CarPaintMaterial,
-                              PlasticMaterial>;
+                              PlasticMaterial, MixMaterial>;
+
+/// A part of a mix: a Material behind a pointer (the variant cannot hold itself).
+struct MixPart {
+  Material material;
+};
+
+/// `material` as a part of a MixMaterial.
+inline std::shared_ptr<const MixPart> mix_part(Material material) {
+  return std::make_shared<const MixPart>(MixPart{std::move(material)});
+}
 
 /// OSPRay's names of the material types, in the order of Material's alternatives.
 inline constexpr std::array<const char*, std::variant_size_v<Material>> material_type_names = {
     "obj",   "principled",    "glass",    "thinGlass", "metal",  "alloy",
-    "luminous", "velvet", "metallicPaint", "carPaint", "plastic"};
+    "luminous", "velvet", "metallicPaint", "carPaint", "plastic", "mix"};
 
 /// The names of every material type, comma-separated: for messages.
 inline std::string material_type_list() {
@@ -265,6 +291,8 @@ void parameters_of(M& m, Read&& read) {
     read("flipflopColor", m.flipflop_color), read("flipflopFalloff", m.flipflop_falloff);
   } else if constexpr (std::is_same_v<T, PlasticMaterial>) {
     read("pigmentColor", m.pigment_color), read("eta", m.eta), read("roughness", m.roughness);
+  } else if constexpr (std::is_same_v<T, MixMaterial>) {
+    read("factor", m.factor);  // material1 and material2 are materials: their readers set them
   }
 }
 
@@ -304,6 +332,8 @@ void maps_of(M& m, Map&& map) {
     map("map_coat", m.map_coat), map("map_coatIor", m.map_coat_ior), map("map_coatColor", m.map_coat_color);
     map("map_coatThickness", m.map_coat_thickness), map("map_coatRoughness", m.map_coat_roughness);
     map("map_flipflopColor", m.map_flipflop_color), map("map_flipflopFalloff", m.map_flipflop_falloff);
+  } else if constexpr (std::is_same_v<T, MixMaterial>) {
+    map("map_factor", m.map_factor);
   }
 }
 
@@ -365,9 +395,12 @@ inline bool has_normal_map(const Material& material) {
       material);
 }
 
-/// Whether `material` reflects anisotropically (principled anisotropy > 0): its shading
-/// needs a tangent, the surface's texture derivative dP/ds.
+/// Whether `material` reflects anisotropically (principled anisotropy > 0, or a mix with
+/// such a part): its shading needs a tangent, the surface's texture derivative dP/ds.
 inline bool is_anisotropic(const Material& material) {
+  if (const auto* mix = std::get_if<MixMaterial>(&material))
+    return (mix->material1 && is_anisotropic(mix->material1->material)) ||
+           (mix->material2 && is_anisotropic(mix->material2->material));
   const auto* principled = std::get_if<PrincipledMaterial>(&material);
   return principled && principled->anisotropy > 0.f;
 }
@@ -415,7 +448,7 @@ void for_each_parameter(Material& material, Read&& read) {
 /// principled: every parameter but thin and normal; luminous: map_color; thinGlass:
 /// map_attenuationColor; metal: map_roughness; alloy: map_color, map_edgeColor,
 /// map_roughness; metallicPaint: map_baseColor; carPaint: every colour and float parameter
-/// but normal and coatNormal; other types have none).
+/// but normal and coatNormal; mix: map_factor; other types have none).
 template <class Map>
 void for_each_map(Material& material, Map&& map) {
   std::visit([&](auto& m) { detail::maps_of(m, map); }, material);
@@ -463,9 +496,11 @@ const std::array<int, max_parameters>& map_of_parameter() {
 /// parameters times their maps (scalar maps by the first channel; parameters in [0, 1]
 /// stay there, as OSPRay clamps them; the alpha of obj map_kd and principled map_baseColor
 /// multiplies the opacity) and no maps. Shared textures are not copied, so the many threads
-/// that shade one textured material contend on no reference count.
+/// that shade one textured material contend on no reference count. A mix is returned as it
+/// is: its factor map and its parts' maps are read where it is shaded (render/bsdf.hpp),
+/// which copies no part.
 inline const Material& textured(const Material& material, const TexCoord<float>& uv, Material& storage) {
-  if (!has_maps(material)) return material;
+  if (!has_maps(material) || std::holds_alternative<MixMaterial>(material)) return material;
   std::visit(
       [&](const auto& m) {
         using M = std::decay_t<decltype(m)>;
@@ -539,9 +574,10 @@ inline ObjMaterial energy_conserving(ObjMaterial m) {
 }
 
 /// What the scivis and ao renderers see of any material: diffuse and specular colour,
-/// shininess, opacity and transmissive filter. Of velvet, metallicPaint, carPaint and plastic they
-/// see what OSPRay's scivis sees of every material but obj: an opaque white diffuse
-/// surface, which the geometry's colours tint.
+/// shininess, opacity and transmissive filter. Of velvet, metallicPaint, carPaint, plastic and
+/// mix they see what OSPRay's scivis sees of every material but obj: an opaque white diffuse
+/// surface, which the geometry's colours tint (for mix measured with OSPRay 3.1's scivis and
+/// ao: a mix of red and blue obj materials shows white).
 inline ObjMaterial obj_view(const Material& material) {
   return std::visit(
       [](const auto& m) -> ObjMaterial {
@@ -692,6 +728,17 @@ inline void validate(const Material& material) {
           require(finite_non_negative(m.pigment_color), type, "pigmentColor", "must be finite and not negative");
           require(positive(m.eta), type, "eta", "must be positive");
           require(non_negative(m.roughness), type, "roughness", "must be finite and not negative");
+        } else if constexpr (std::is_same_v<M, MixMaterial>) {
+          require(in_unit(m.factor), type, "factor", "must be in [0, 1]");
+          const auto part = [&](const std::shared_ptr<const MixPart>& p, const char* name) {
+            require(p != nullptr, type, name, "(the material it mixes) is missing");
+            try {
+              validate(p->material);
+            } catch (const Error& e) {
+              throw Error(type + " material: parameter '" + name + "': " + e.what());
+            }
+          };
+          part(m.material1, "material1"), part(m.material2, "material2");
         }
         detail::maps_of(m, [&](const char* name, const TextureMap& map) {
           require(map.transform.finite(), type, name, "has a transform that is not finite");

@@ -181,7 +181,7 @@ public:
         const bool mapped = s.material != no_material && normal_mapped_[s.material];
         const Vec3f n = mapped ? mapped_normal(material(s), s.n, s.dpds, s.dpdt, s.uv) : s.n;
         const auto coat_n = mapped ? mapped_coat_normal(material(s), s.n, s.dpds, s.dpdt, s.uv) : std::nullopt;
-        p.sp = {n, s.ng, s.front, s.color, s.alpha, s.p, coat_n};
+        p.sp = {n, s.ng, s.front, s.color, s.alpha, s.p, coat_n, s.uv};
         if (s.material != no_material && anisotropic_[s.material]) p.sp.tangent = s.dpds;
         p.p = s.p;
         p.offset = detail::ray_offset(s.p, s.t, s.epsilon);
@@ -496,7 +496,7 @@ private:
       Material storage;
       const Material& m = textured(material(s), s.uv, storage);
       const Vec3f w{lanes[3][i], lanes[4][i], lanes[5][i]};
-      const Vec3f radiance = emitted(m, {s.n, s.ng, s.front, s.color, s.alpha}, -w);
+      const Vec3f radiance = emitted(m, {s.n, s.ng, s.front, s.color, s.alpha, s.p, std::nullopt, s.uv}, -w);
       const float dist = lanes[6][i], cos_light = std::abs(dot(w, s.ng));
       if (!(std::max({radiance.x, radiance.y, radiance.z}) > 0.f) || !(cos_light > 0.f)) return;
       const float light_pdf = pdf_area[i] * dist * dist / cos_light;  // per solid angle
