@@ -17,6 +17,7 @@
 #include <filesystem>
 #include <limits>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <ospray/ospray.h>
@@ -410,7 +411,8 @@ TEST_CASE("texture maps: every map of every material type scales the parameter i
           "[texture_maps]") {
   // Each map alone, a checker of texels 1 and 0, over its parameter set to 0.5: the
   // resolved parameter is 0.5 where the texel is 1 and 0 where it is 0 (a mapped index of
-  // refraction of principled stays at 1/3, where OSPRay clamps it).
+  // refraction of principled stays at 1/3, where OSPRay clamps it). A mix's map_factor is
+  // read where the mix is shaded, not resolved here (test_bsdf_mix.cpp).
   const auto set = [](auto& field, float v) {
     using Field = std::remove_reference_t<decltype(field)>;
     if constexpr (std::is_same_v<Field, float>) field = v;
@@ -425,6 +427,7 @@ TEST_CASE("texture maps: every map of every material type scales the parameter i
   };
   int checked = 0;
   for (const char* type : material_type_names) {
+    if (std::string_view(type) == "mix") continue;
     Material base = *material_of_type(type);
     std::vector<std::string> names;
     for_each_map(base, [&](const char* name, TextureMap&) { names.push_back(name); });
