@@ -189,7 +189,7 @@ TEST_CASE("a cylinder light's irradiance matches integration over its side", "[l
   CHECK(!sample(c, {0.f, 1.1f, 0.f}, n, 0.3f, 0.4f));  // inside: the side faces away
 }
 
-TEST_CASE("scivis sees a cylinder light as OSPRay does: its centre, weighted by its bounds' solid angle", "[light]") {
+TEST_CASE("scivis lights from a cylinder light's centre with radiance times its bounds' solid angle as OSPRay does", "[light]") {
   CylinderLight c;
   c.position0 = {-0.5f, 1.f, 0.f};
   c.position1 = {0.5f, 1.f, 0.f};

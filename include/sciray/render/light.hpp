@@ -488,11 +488,15 @@ inline std::optional<LightSample> sample(const Light& light, const Vec3f& p, con
           if (!bounds || !(bounds->solid_angle > 0.f)) return std::nullopt;
           // Sample (0, 0), OSPRay's scivis sample, is the direction to the centre standing
           // for the whole light, as in OSPRay: radiance times the bounds' solid angle.
-          const Vec3f w = u1 == 0.f && u2 == 0.f ? normalize((l.position0 + l.position1) * 0.5f - p)
-                                                 : bounds->sample(u1, u2);
+          const bool scivis = u1 == 0.f && u2 == 0.f;
+          const detail::BilinearWarp warp = detail::cosine_warp(*bounds, n);
+          const auto [su, sv] = warp.sample(u1, u2);
+          const Vec3f w = scivis ? normalize((l.position0 + l.position1) * 0.5f - p) : bounds->sample(su, sv);
           const float t = detail::cylinder_side_entry(l.position0, l.position1, l.radius, p, w);
           if (!std::isfinite(t)) return std::nullopt;  // through a cap or past the side: rejected
-          return LightSample{w, t, emission * bounds->solid_angle, 1.f / bounds->solid_angle};
+          const float pdf = (scivis ? 1.f : warp.pdf(su, sv)) / bounds->solid_angle;
+          if (!(pdf > 0.f)) return std::nullopt;
+          return LightSample{w, t, emission / pdf, pdf};
         } else {
           static_assert(std::is_same_v<L, HdriLight>);
           const auto s = l.sample(u1, u2);
@@ -569,7 +573,8 @@ inline LightEval eval(const Light& light, const Vec3f& p, const Vec3f& n, const 
           const auto bounds = detail::cylinder_bounds(l.position0, l.position1, l.radius, p);
           if (!bounds || !(bounds->solid_angle > 0.f)) return none;
           if (!(detail::cylinder_side_entry(l.position0, l.position1, l.radius, p, w) < max_dist)) return none;
-          return {emission, 1.f / bounds->solid_angle};
+          const auto [su, sv] = bounds->square_of(w);
+          return {emission, detail::cosine_warp(*bounds, n).pdf(su, sv) / bounds->solid_angle};
         } else {
           static_assert(std::is_same_v<L, HdriLight>);
           if (max_dist < inf) return none;
