@@ -8,7 +8,8 @@
 // of a direction found otherwise (by BSDF sampling), which multiple importance sampling
 // weighs against. Delta lights (no size) have an infinite pdf and are never hit. Sample
 // point (0, 0), where OSPRay's scivis samples every light, lands where it does in OSPRay:
-// the centre of a sphere, disk or cone, a ring's inner edge along c0, a quad's `position`.
+// the centre of a sphere, disk or cone, a ring's inner edge along c0, a quad's `position`,
+// the direction to a cylinder's centre.
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -24,6 +25,7 @@
 #include "sciray/math/affine.hpp"
 #include "sciray/math/motion.hpp"
 #include "sciray/math/vec.hpp"
+#include "sciray/render/light_cylinder.hpp"
 #include "sciray/render/light_distribution.hpp"
 #include "sciray/render/light_hdri.hpp"
 
@@ -223,23 +225,6 @@ inline float hit_sphere(const Vec3f& org, const Vec3f& dir, const Vec3f& center,
 /// A sphere this small seen from a point is a point light to OSPRay, for precision: no
 /// surface to hit, its intensity over the squared distance.
 inline bool point_like(const SphereLight& s, float dist) { return !(s.radius > 0.005f * dist); }
-
-/// A point on a cylinder's side as seen from outside it: the cylinder's frame at the
-/// viewer, and the half-angle of the arc of the side that faces the viewer.
-struct CylinderView {
-  Vec3f axis, toward, across;  ///< unit axis; unit radial direction to the viewer; axis x toward
-  float height, half_arc;      ///< half_arc = acos(radius / distance to the axis)
-};
-inline std::optional<CylinderView> cylinder_view(const CylinderLight& c, const Vec3f& p) {
-  const Vec3f d = c.position1 - c.position0;
-  const float height = length(d);
-  const Vec3f axis = d / height;
-  const Vec3f radial = (p - c.position0) - axis * dot(p - c.position0, axis);
-  const float rho = length(radial);
-  if (!(rho > c.radius)) return std::nullopt;  // on or inside the tube: the side faces away
-  const Vec3f toward = radial / rho;
-  return CylinderView{axis, toward, cross(axis, toward), height, std::acos(c.radius / rho)};
-}
 
 }  // namespace detail
 
@@ -499,20 +484,19 @@ inline std::optional<LightSample> sample(const Light& light, const Vec3f& p, con
           const float pdf = dist2 / (cos_light * area);
           return LightSample{w, dist, emission / pdf, pdf};
         } else if constexpr (std::is_same_v<L, CylinderLight>) {
-          // The facing arc of the side, area-uniformly; the samples' origin shifted by a
-          // half period so that (0, 0) is the middle of the arc, halfway up.
-          const auto view = detail::cylinder_view(l, p);
-          if (!view) return std::nullopt;
-          const float z = view->height * (u1 < 0.5f ? u1 + 0.5f : u1 - 0.5f);
-          const float phi = view->half_arc * (2.f * (u2 < 0.5f ? u2 + 0.5f : u2 - 0.5f) - 1.f);
-          const Vec3f normal = view->toward * std::cos(phi) + view->across * std::sin(phi);
-          const Vec3f d = l.position0 + view->axis * z + normal * l.radius - p;
-          const float dist2 = dot(d, d), dist = std::sqrt(dist2);
-          const Vec3f w = d / dist;
-          const float cos_light = -dot(w, normal);
-          if (!(cos_light > 0.f)) return std::nullopt;
-          const float pdf = dist2 / (cos_light * 2.f * view->half_arc * l.radius * view->height);
-          return LightSample{w, dist, emission / pdf, pdf};
+          const auto bounds = detail::cylinder_bounds(l.position0, l.position1, l.radius, p);
+          if (!bounds || !(bounds->solid_angle > 0.f)) return std::nullopt;
+          // Sample (0, 0), OSPRay's scivis sample, is the direction to the centre standing
+          // for the whole light, as in OSPRay: radiance times the bounds' solid angle.
+          const bool scivis = u1 == 0.f && u2 == 0.f;
+          const detail::BilinearWarp warp = detail::cosine_warp(*bounds, n);
+          const auto [su, sv] = warp.sample(u1, u2);
+          const Vec3f w = scivis ? normalize((l.position0 + l.position1) * 0.5f - p) : bounds->sample(su, sv);
+          const float t = detail::cylinder_side_entry(l.position0, l.position1, l.radius, p, w);
+          if (!std::isfinite(t)) return std::nullopt;  // through a cap or past the side: rejected
+          const float pdf = (scivis ? 1.f : warp.pdf(su, sv)) / bounds->solid_angle;
+          if (!(pdf > 0.f)) return std::nullopt;
+          return LightSample{w, t, emission / pdf, pdf};
         } else {
           static_assert(std::is_same_v<L, HdriLight>);
           const auto s = l.sample(u1, u2);
@@ -586,26 +570,11 @@ inline LightEval eval(const Light& light, const Vec3f& p, const Vec3f& n, const 
               l.distribution ? l.distribution(detail::quad_frame(l), cos_light, -w) / std::abs(cos_light) : 1.f;
           return {emission * shape, t * t / (std::abs(cos_light) * area)};
         } else if constexpr (std::is_same_v<L, CylinderLight>) {
-          const auto view = detail::cylinder_view(l, p);
-          if (!view) return none;
-          // The near root of |(p + w t - p0) x axis| = radius: entering the side.
-          const Vec3f o = p - l.position0;
-          const Vec3f op = o - view->axis * dot(o, view->axis), wp = w - view->axis * dot(w, view->axis);
-          const float a = dot(wp, wp), b = dot(op, wp), c = dot(op, op) - l.radius * l.radius;
-          if (!(a > 0.f)) return none;
-          // b^2 - a c from the ray's closest approach to the axis: no cancellation at grazing
-          // incidence (the stable form of Ray Tracing Gems ch. 7).
-          const Vec3f closest = op - wp * (b / a);
-          const float disc = a * (l.radius * l.radius - dot(closest, closest));
-          if (disc < 0.f) return none;
-          const float t = c / (-b + std::sqrt(disc));  // = (-b - sqrt(disc)) / a, stable for b < 0
-          if (!(t > 0.f && t < max_dist)) return none;
-          const float z = dot(o + w * t, view->axis);
-          if (z < 0.f || z > view->height) return none;
-          const Vec3f normal = (op + wp * t) / l.radius;
-          const float cos_light = -dot(w, normal);
-          if (!(cos_light > 0.f)) return none;
-          return {emission, t * t / (cos_light * 2.f * view->half_arc * l.radius * view->height)};
+          const auto bounds = detail::cylinder_bounds(l.position0, l.position1, l.radius, p);
+          if (!bounds || !(bounds->solid_angle > 0.f)) return none;
+          if (!(detail::cylinder_side_entry(l.position0, l.position1, l.radius, p, w) < max_dist)) return none;
+          const auto [su, sv] = bounds->square_of(w);
+          return {emission, detail::cosine_warp(*bounds, n).pdf(su, sv) / bounds->solid_angle};
         } else {
           static_assert(std::is_same_v<L, HdriLight>);
           if (max_dist < inf) return none;
