@@ -229,7 +229,7 @@ def at_time(points, seconds):
 
 def renderers_sweep(build, tmp, smoke):
     size = "32x32" if smoke else "128x128"
-    frames = [1, 16, 64] if smoke else [2 ** k for k in range(11)]
+    frames = [1, 16, 256] if smoke else [2 ** k for k in range(11)]
     reference_frames = 16 * frames[-1]
     references, reference_info = {}, {}
     for _, kind, args in RENDERER_CURVES:

@@ -249,7 +249,7 @@ TEST_CASE("pathtracer: a white scattering volume vanishes in a uniform environme
     camera.direction = {0.f, 1.f, 0.f};
     camera.up = {0.f, 0.f, 1.f};
     camera.fovy = 40.f;
-    const auto batches = render_frames(w.world, params, camera, 96, 96, 80);
+    const auto batches = render_frames(w.world, params, camera, 96, 96, 100);
     const Stats s = luminance_stats(batches);
     INFO("mean " << s.mean << " +- " << s.stderr_);
     CHECK(std::abs(s.mean - 1.0) <= 1e-3);

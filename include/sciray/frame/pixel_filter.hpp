@@ -15,8 +15,9 @@
 //                   negative, so its negative lobes are clipped (sampled as max(f, 0))
 //   blackman_harris 4-term Blackman-Harris window over 3 px
 //
-// The sample points themselves (pixel_sample_point) are OSPRay's too: sample n of a
-// frame's accumulation lies at the same place in every pixel.
+// The sample points themselves (pixel_sample_point) are OSPRay's too: for scivis and ao,
+// sample n of a frame's accumulation lies at the same place in every pixel; the path
+// tracer, as OSPRay's, draws each pixel's from a sequence of its own (CameraSequence::film).
 #include <algorithm>
 #include <array>
 #include <cmath>

@@ -130,6 +130,9 @@ std::uint32_t render_frame(const Renderer& renderer, const CameraT& camera, Fram
   // Renderers that see one instant through the lens centre (scivis and ao, as OSPRay's).
   if constexpr (requires { renderer.samples_lens_and_shutter(); })
     if (!renderer.samples_lens_and_shutter()) uses_lens = uses_time = false;
+  // The path tracer, as OSPRay's, places each pixel's samples on a sequence of its own.
+  bool film_per_pixel = false;
+  if constexpr (requires { renderer.jitters_film_per_pixel(); }) film_per_pixel = renderer.jitters_film_per_pixel();
 
   const bool first_hit_channels = fb.has(channel_depth) || fb.has(channel_id_primitive) ||
                                   fb.has(channel_id_object) || fb.has(channel_id_instance);
@@ -141,7 +144,7 @@ std::uint32_t render_frame(const Renderer& renderer, const CameraT& camera, Fram
       if (!fb.tile_converged(tile, settings.variance_threshold)) {
         const std::uint32_t tile_frames = fb.tile_frames(tile);
         const std::uint32_t first_sample = tile_frames * samples;
-        const bool needs_sequence = uses_lens;
+        const bool needs_sequence = uses_lens || film_per_pixel;
         const int tile_x0 = (tile % fb.tiles_x()) * tile_size, tile_y0 = (tile / fb.tiles_x()) * tile_size;
         for (int y0 = tile_y0; y0 < std::min(tile_y0 + tile_size, height); y0 += S::height) {
           for (int x0 = tile_x0; x0 < std::min(tile_x0 + tile_size, width); x0 += S::width) {
@@ -170,11 +173,23 @@ std::uint32_t render_frame(const Renderer& renderer, const CameraT& camera, Fram
             const auto render_sample = [&](std::uint32_t s) {
               const std::uint32_t sample_index = first_sample + s;
               CameraSamples<F> cs{F(0.5f), F(0.5f)};
-              if (sequence) cs = (*sequence)(sample_index);
-              const auto [u, v] = pixel_sample_point(sample_index);
-              const FilterOffset offset = filter.sample(u, v);
-              const F screen_x = (pixel_x + F(offset.x)) * F(inv_width);
-              const F screen_y = (pixel_y + F(offset.y)) * F(inv_height);
+              if (uses_lens) cs = (*sequence)(sample_index);
+              F offset_x, offset_y;
+              if (film_per_pixel) {
+                const FilmSamples<F> film = sequence->film(sample_index);
+                alignas(64) float ox[W], oy[W];
+                for (int i = 0; i < W; ++i) {
+                  const FilterOffset o = filter.sample(simd::lane(film.film_u, i), simd::lane(film.film_v, i));
+                  ox[i] = o.x, oy[i] = o.y;
+                }
+                offset_x = simd::load<Arch>(ox), offset_y = simd::load<Arch>(oy);
+              } else {
+                const auto [u, v] = pixel_sample_point(sample_index);
+                const FilterOffset offset = filter.sample(u, v);
+                offset_x = F(offset.x), offset_y = F(offset.y);
+              }
+              const F screen_x = (pixel_x + offset_x) * F(inv_width);
+              const F screen_y = (pixel_y + offset_y) * F(inv_height);
               const F time_u = uses_time ? time_sample<Arch>(pixels, sample_index) : F(0.5f);
               const auto ray = camera.generate(screen_x, screen_y, cs.lens_u, cs.lens_v, time_u);
               PixelSample<Arch> one =

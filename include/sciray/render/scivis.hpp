@@ -387,7 +387,7 @@ private:
       return out;
     }
     const Vec3<F> p = ray.org + ray.dir * t;
-    // Geometries with their own epsilon (spheres) start 2 ulps out at least, others 8 (ray_offset).
+    // Geometries with their own epsilon (spheres) start an ulp or two out at least, others 8 (ray_offset).
     const F magnitude = magnitude_of(p, t, ray.dir);
     const F offset =
         simd::select(s.epsilon > F(0.f), simd::max(F(0x1p-23f) * magnitude, s.epsilon), F(0x1.fp-21f) * magnitude);
