@@ -54,4 +54,19 @@ inline Estimate sampled_albedo(const sciray::Material& m, sciray::ShadingPoint s
   return e;
 }
 
+/// ∫ f(wi) dwi over the unit sphere, stratified in (z, phi): strata² cells, each jittered by
+/// two numbers from `rng` (z's first).
+template <class F>
+double sphere_integral(int strata, sciray::Pcg32& rng, F&& f) {
+  double integral = 0.;
+  for (int i = 0; i < strata; ++i)
+    for (int j = 0; j < strata; ++j) {
+      const float z = 1.f - 2.f * (static_cast<float>(i) + rng.next_float()) / strata;
+      const float phi = 2.f * pi * (static_cast<float>(j) + rng.next_float()) / strata;
+      const float r = std::sqrt(std::max(0.f, 1.f - z * z));
+      integral += f(sciray::Vec3f{r * std::cos(phi), r * std::sin(phi), z});
+    }
+  return integral * 4. * pi / (strata * strata);
+}
+
 }  // namespace sciray_test

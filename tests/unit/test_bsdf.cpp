@@ -208,18 +208,9 @@ TEST_CASE("eval's pdf integrates over the sphere to the probability of a non-del
   for (const NamedMaterial& nm : materials) {
     for (const float angle : {10.f, 60.f}) {
       const Vec3f wo = at_angle(angle);
-      // Stratified uniform sphere: strata in (z, phi), jittered.
       Pcg32 rng(11, 1);
-      constexpr int strata = 256;
-      double integral = 0.;
-      for (int i = 0; i < strata; ++i)
-        for (int j = 0; j < strata; ++j) {
-          const float z = 1.f - 2.f * (static_cast<float>(i) + rng.next_float()) / strata;
-          const float phi = 2.f * pi * (static_cast<float>(j) + rng.next_float()) / strata;
-          const float r = std::sqrt(std::max(0.f, 1.f - z * z));
-          integral += eval(nm.material, flat(nm.entering), wo, {r * std::cos(phi), r * std::sin(phi), z}).pdf;
-        }
-      integral *= 4. * pi / (strata * strata);
+      const double integral = sphere_integral(
+          256, rng, [&](const Vec3f& wi) { return eval(nm.material, flat(nm.entering), wo, wi).pdf; });
       constexpr int n = 20000;
       int non_delta = 0;
       for (int i = 0; i < n; ++i) {

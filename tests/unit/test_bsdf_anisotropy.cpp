@@ -34,19 +34,10 @@ ShadingPoint with_tangent(const Vec3f& tangent) {
   return sp;
 }
 
-/// ∫ eval(wi).pdf over the sphere, stratified in (z, phi).
+/// ∫ eval(wi).pdf over the sphere.
 double pdf_integral(const Material& m, const ShadingPoint& sp, const Vec3f& wo) {
   Pcg32 rng(5, 3);
-  constexpr int strata = 400;
-  double integral = 0.;
-  for (int i = 0; i < strata; ++i)
-    for (int j = 0; j < strata; ++j) {
-      const float z = 1.f - 2.f * (static_cast<float>(i) + rng.next_float()) / strata;
-      const float phi = 2.f * pi * (static_cast<float>(j) + rng.next_float()) / strata;
-      const float r = std::sqrt(std::max(0.f, 1.f - z * z));
-      integral += eval(m, sp, wo, {r * std::cos(phi), r * std::sin(phi), z}).pdf;
-    }
-  return integral * 4. * pi / (strata * strata);
+  return sphere_integral(400, rng, [&](const Vec3f& wi) { return eval(m, sp, wo, wi).pdf; });
 }
 
 }  // namespace

@@ -93,17 +93,9 @@ TEST_CASE("White furnace: rough glass with energy compensation reflects and tran
         PrincipledMaterial glass;
         glass.transmission = 1.f, glass.roughness = roughness, glass.ior = 1.5f;
         const Vec3f wo = at_angle(angle);
-        constexpr int strata = 400;
         Pcg32 rng(2, 2);
-        double integral = 0.;
-        for (int i = 0; i < strata; ++i)
-          for (int j = 0; j < strata; ++j) {
-            const float z = 1.f - 2.f * (static_cast<float>(i) + rng.next_float()) / strata;
-            const float phi = 2.f * pi * (static_cast<float>(j) + rng.next_float()) / strata;
-            const float r = std::sqrt(std::max(0.f, 1.f - z * z));
-            integral += eval(glass, flat(entering), wo, {r * std::cos(phi), r * std::sin(phi), z}).f_cos.x;
-          }
-        integral *= 4. * pi / (strata * strata);
+        const double integral =
+            sphere_integral(400, rng, [&](const Vec3f& wi) { return eval(glass, flat(entering), wo, wi).f_cos.x; });
         INFO("roughness " << roughness << (entering ? ", entering" : ", leaving") << " at " << angle << " degrees");
         CHECK(integral == Approx(1.).epsilon(0.01));
       }
@@ -221,16 +213,8 @@ TEST_CASE("Paints: sample() reports what eval() gives and the pdf integrates to 
       const Vec3f wo = at_angle(angle);
       ShadingPoint sp = flat();
       sp.p = {0.3f, 0.7f, 0.f};
-      constexpr int strata = 200;
-      double integral = 0.;
-      for (int i = 0; i < strata; ++i)
-        for (int j = 0; j < strata; ++j) {
-          const float z = 1.f - 2.f * (static_cast<float>(i) + rng.next_float()) / strata;
-          const float phi = 2.f * pi * (static_cast<float>(j) + rng.next_float()) / strata;
-          const float r = std::sqrt(std::max(0.f, 1.f - z * z));
-          integral += eval(material, sp, wo, {r * std::cos(phi), r * std::sin(phi), z}).pdf;
-        }
-      integral *= 4. * pi / (strata * strata);
+      const double integral =
+          sphere_integral(200, rng, [&](const Vec3f& wi) { return eval(material, sp, wo, wi).pdf; });
       constexpr int n = 20000;
       int drawn = 0;
       for (int i = 0; i < n; ++i) {
