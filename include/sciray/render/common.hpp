@@ -311,17 +311,24 @@ void record_volume_entry(const WorldT& world, const VolumeEntry<Arch>& entry, Pi
   out.inst_id = simd::load<Arch>(ids[1]);
 }
 
-/// How far a secondary ray starts off the surface it leaves, along the geometric normal:
-/// OSPRay's epsilon, about 8 ulps of the larger of the hit's largest coordinate and its
-/// distance `t` along the ray that found it. A geometry that knows its own precision (a
+/// How far a secondary ray starts off the surface it leaves, along the geometric normal,
+/// given `magnitude`, the larger of the hit's largest coordinate and its distance along
+/// the ray that found it (one float or a packet): OSPRay's epsilon, about 8 ulps of it. A
+/// geometry that knows its own precision (a
 /// sphere: its roots are refined, so only the rounding of org + t·dir is left, about an
 /// ulp of that magnitude) starts at its own epsilon or an ulp or two (0x1p-23), whichever is
 /// larger: a shadow ray pushed 8 ulps out from a sphere seen from 2·10⁵ radii away starts
 /// 18 % of the radius off and moves shadow edges; 0x1p-23 keeps them within a pixel of the
 /// exact edge, and a quarter of it lets spheres shadow themselves.
+template <class F>
+F offset_for(const F& magnitude, const F& geometry_epsilon) {
+  return simd::select(geometry_epsilon > F(0.f), simd::max(F(0x1p-23f) * magnitude, geometry_epsilon),
+                      F(0x1.fp-21f) * magnitude);
+}
+
+/// offset_for of the hit `p`, found `t` along its ray.
 inline float ray_offset(const Vec3f& p, float t, float geometry_epsilon) {
-  const float magnitude = std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z), t});
-  return geometry_epsilon > 0.f ? std::max(0x1p-23f * magnitude, geometry_epsilon) : 0x1.fp-21f * magnitude;
+  return offset_for(std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z), t}), geometry_epsilon);
 }
 
 /// How far each active lane's camera ray reaches: map_maxDepth at its pixel centre

@@ -387,10 +387,7 @@ private:
       return out;
     }
     const Vec3<F> p = ray.org + ray.dir * t;
-    // Geometries with their own epsilon (spheres) start an ulp or two out at least, others 8 (ray_offset).
-    const F magnitude = magnitude_of(p, t, ray.dir);
-    const F offset =
-        simd::select(s.epsilon > F(0.f), simd::max(F(0x1p-23f) * magnitude, s.epsilon), F(0x1.fp-21f) * magnitude);
+    const F offset = offset_for(magnitude_of(p, t, ray.dir), s.epsilon);
     const Vec3<F> org = p + ng * offset;
 
     if constexpr (is_ao) {
@@ -489,7 +486,7 @@ private:
     return any;
   }
 
-  /// The magnitude that scales how far shadow and AO rays start off the surface (ray_offset):
+  /// The magnitude that scales how far shadow and AO rays start off the surface (offset_for):
   /// the larger of the hit's largest coordinate and its distance along the ray — so that
   /// shadow edges and terminators land where OSPRay's do, also on objects far smaller
   /// than the scene.
