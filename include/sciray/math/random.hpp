@@ -2,16 +2,15 @@
 // Random numbers for renderers, seeded per pixel and per sample so that images do not
 // depend on thread scheduling.
 //
-// The first dimensions of a pixel's samples are low-discrepancy: dimension j of sample i
-// is the 16-dimensional Kronecker sequence R16 (Roberts 2018: alpha_j = phi^-(j+1) with
-// phi the root of x^17 = x + 1) at i, shifted by a per-pixel hash (Cranley-Patterson
-// rotation), so successive samples of one pixel stratify well while neighbouring pixels
-// decorrelate. One sequence in 16 dimensions, not one 2D sequence per pair: pairs of a
-// 2D sequence shifted apart would be functions of each other, and an estimator that
-// uses two of them (a light sample and a BSDF sample) would converge to the wrong value.
-// Dimensions past the 16 come from a PCG32 stream seeded by a hash of (pixel, sample).
-#include <array>
-#include <cmath>
+// A pixel's 2D draws are low-discrepancy across its samples: draw j of sample i is the
+// two-dimensional Sobol (0,2)-sequence at a shuffled index, Owen-scrambled (Burley 2020,
+// "Practical Hash-based Owen Scrambling"), with the shuffle and the scrambles seeded by a
+// hash of (pixel, j). Every 2^k consecutive samples of one pixel then put exactly one
+// point in each of the 2^k strata of any elementary-interval shape in each draw, and
+// different draws are shuffled independently (padding), so a light sample and a BSDF
+// sample are not functions of each other. (A Kronecker sequence in many dimensions,
+// used before, steps its first dimensions by nearly 1: 16 samples covered two thirds of
+// [0, 1).) Draws that must not take a low-discrepancy slot come from a PCG32 stream.
 #include <cstdint>
 
 namespace sciray {
@@ -51,15 +50,45 @@ private:
   std::uint64_t inc_;
 };
 
-/// The sample stream of one pixel sample: 2D draws, the first `low_discrepancy_pairs`
-/// of them stratified across the pixel's samples.
+constexpr std::uint32_t reverse_bits(std::uint32_t x) {
+  x = (x << 16) | (x >> 16);
+  x = ((x & 0x00ff00ffU) << 8) | ((x & 0xff00ff00U) >> 8);
+  x = ((x & 0x0f0f0f0fU) << 4) | ((x & 0xf0f0f0f0U) >> 4);
+  x = ((x & 0x33333333U) << 2) | ((x & 0xccccccccU) >> 2);
+  x = ((x & 0x55555555U) << 1) | ((x & 0xaaaaaaaaU) >> 1);
+  return x;
+}
+
+/// Owen scrambling in base 2 of a 32-bit fraction: whether bit b (from the top) flips
+/// depends only on the bits above it, so every dyadic interval maps onto one of the same
+/// size. Laine and Karras's hash, applied to the reversed bits (Burley 2020).
+constexpr std::uint32_t owen_scramble(std::uint32_t x, std::uint32_t seed) {
+  x = reverse_bits(x);
+  x += seed;
+  x ^= x * 0x6c50b47cU;
+  x ^= x * 0xb82f1e52U;
+  x ^= x * 0xc7afe638U;
+  x ^= x * 0x8d22f6e6U;
+  return reverse_bits(x);
+}
+
+/// The two dimensions of Sobol's (0,2)-sequence at `index`, as 32-bit fractions: the
+/// first is the base-2 radical inverse; the second's direction numbers are v0 = 1/2,
+/// v(k+1) = vk xor vk/2.
+constexpr std::uint32_t sobol_first(std::uint32_t index) { return reverse_bits(index); }
+constexpr std::uint32_t sobol_second(std::uint32_t index) {
+  std::uint32_t x = 0, direction = 0x80000000U;
+  for (; index; index >>= 1, direction ^= direction >> 1)
+    if (index & 1U) x ^= direction;
+  return x;
+}
+
+/// The sample stream of one pixel sample: 2D draws stratified across the pixel's samples.
 class PixelRandom {
 public:
-  static constexpr int low_discrepancy_pairs = 8;
-
   PixelRandom() : PixelRandom(0, 0) {}
   PixelRandom(std::uint32_t pixel, std::uint32_t sample)
-      : pixel_(pixel),
+      : pixel_seed_(hash32(pixel ^ 0x632be5abU)),
         sample_(sample),
         pcg_((static_cast<std::uint64_t>(hash32(sample ^ hash32(pixel))) << 32) | hash32(sample * 0x9e3779b9U + pixel),
              pixel) {}
@@ -70,41 +99,23 @@ public:
 
   /// The next 2D sample in [0,1)^2.
   Pair next_2d() {
-    if (pair_ < low_discrepancy_pairs) {
-      const auto& alpha = kronecker_alphas();
-      const std::uint32_t h = hash32(pixel_ * 0x9e3779b9U ^ hash32(static_cast<std::uint32_t>(pair_) + 0x632be5abU));
-      const double shift_u = unit_float(h), shift_v = unit_float(hash32(h));
-      const int j = 2 * pair_++;
-      // The fractional part of alpha * sample, exactly enough in double for 2^32 samples.
-      return {wrap(shift_u + alpha[j] * sample_), wrap(shift_v + alpha[j + 1] * sample_)};
-    }
-    return {pcg_.next_float(), pcg_.next_float()};
+    const std::uint32_t seed = hash32(pixel_seed_ + 0x9e3779b9U * ++draws_);
+    // Each draw visits the pixel's samples in an order of its own (padding); being nested,
+    // the shuffle keeps every aligned block of 2^k samples a (0,k,2)-net.
+    const std::uint32_t index = owen_scramble(sample_, seed);
+    return {unit_float(owen_scramble(sobol_first(index), hash32(seed ^ 0xa511e9b3U))),
+            unit_float(owen_scramble(sobol_second(index), hash32(seed ^ 0x63d83595U)))};
   }
   float next_1d() { return next_2d().u; }
 
-  /// A number in [0,1) that takes no low-discrepancy dimension: for samplers that draw a
+  /// A number in [0,1) that takes no low-discrepancy draw: for samplers that draw a
   /// varying count of numbers (delta tracking), which would otherwise shift every later
-  /// draw onto another sample's dimension.
+  /// draw onto another sample's sequence.
   float next_independent() { return pcg_.next_float(); }
 
 private:
-  static const std::array<double, 2 * low_discrepancy_pairs>& kronecker_alphas() {
-    static const auto alphas = [] {
-      constexpr int d = 2 * low_discrepancy_pairs;
-      double phi = 1.5;  // Newton's method on x^(d+1) - x - 1
-      for (int k = 0; k < 64; ++k) phi -= (std::pow(phi, d + 1) - phi - 1.0) / ((d + 1) * std::pow(phi, d) - 1.0);
-      std::array<double, d> a{};
-      for (int j = 0; j < d; ++j) a[j] = std::fmod(std::pow(1.0 / phi, j + 1), 1.0);
-      return a;
-    }();
-    return alphas;
-  }
-  static float wrap(double v) {
-    const float f = static_cast<float>(v - static_cast<double>(static_cast<std::uint64_t>(v)));
-    return f < 1.f ? f : 0x1.fffffep-1f;
-  }
-  std::uint32_t pixel_, sample_;
-  int pair_ = 0;
+  std::uint32_t pixel_seed_, sample_;
+  std::uint32_t draws_ = 0;
   Pcg32 pcg_;
 };
 
