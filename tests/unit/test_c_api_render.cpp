@@ -328,6 +328,36 @@ TEST_CASE("scivis lights from a quad light's centre, as OSPRay 3.1's", "[c_api][
   ospRelease(material);
 }
 
+TEST_CASE("a sunSky's intensity scales its sky model, OSPRay 3.1's only quantity", "[c_api][renderers][sky]") {
+  ApiFixture api;
+  FloorScene scene(nullptr);
+  // The camera looks straight up at the sky, away from the sun.
+  ospSetVec3f(scene.camera, "direction", 0.f, 1.f, 0.f);
+  ospCommit(scene.camera);
+  OSPRenderer pathtracer = ospNewRenderer("pathtracer");
+  ospCommit(pathtracer);
+  const auto zenith = [&](float intensity, bool quantity_given) {
+    OSPLight sky = ospNewLight("sunSky");
+    ospSetVec3f(sky, "direction", 0.f, -0.5f, -1.f);
+    ospSetFloat(sky, "intensity", intensity);
+    if (quantity_given) ospSetUInt(sky, "intensityQuantity", OSP_INTENSITY_QUANTITY_SCALE);
+    ospCommit(sky);
+    scene.set_lights({sky});
+    return scene.render(pathtracer)[2];
+  };
+  // Unset, the quantity is scale: OSPRay 3.1's runtime shows a sky of intensity 0.005 at
+  // 0.005 times the model, as with the quantity given (not 0.025 x 0.005).
+  CHECK(zenith(0.005f, false) == Approx(0.005f * zenith(1.f, true)).epsilon(1e-5));
+  CHECK(api.messages.errors == std::vector<std::string>{});
+  // Every other quantity OSPRay 3.1 renders black, with a warning; sciray refuses it.
+  OSPLight radiance = ospNewLight("sunSky");
+  ospSetUInt(radiance, "intensityQuantity", OSP_INTENSITY_QUANTITY_RADIANCE);
+  ospCommit(radiance);
+  api.expect_error("'intensityQuantity' value 0 is not supported by sunSky lights (only OSP_INTENSITY_QUANTITY_SCALE)");
+  ospRelease(radiance);
+  ospRelease(pathtracer);
+}
+
 TEST_CASE("bad lights, materials, textures and renderer parameters are named", "[c_api][renderers][errors]") {
   ApiFixture api;
   CHECK(ospNewLight("photometric") == nullptr);

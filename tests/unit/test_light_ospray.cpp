@@ -313,3 +313,19 @@ TEST_CASE("sunSky is a sky map fading out below the horizon and a sun of 0.53 de
   params.turbidity = 0.5f;
   CHECK_THROWS_WITH(sun_sky_lights(params), Catch::Contains("turbidity"));
 }
+
+TEST_CASE("a sunSky's sun at the nadir sits on the horizon where OSPRay 3.1 puts it", "[light][sky]") {
+  // A sun at the zenith or nadir has no azimuth of its own; OSPRay's runtime puts a nadir
+  // sun of up (0,-1,0) on the horizon at +z, of up (0,0,1) at -x (the sun disc measured
+  // in its path tracer's image), and the sky's glow with it.
+  SunSky params;
+  params.up = {0.f, -1.f, 0.f};
+  params.direction = {0.f, -1.f, 0.f};  // travelling down: towards the sky's nadir
+  const auto [sky, sun] = sun_sky_lights(params);
+  CHECK(normalize(sun.direction).z == Approx(-1.f));  // it shines from +z
+  const Vec3f above_horizon{0.f, -0.05f, 1.f};
+  CHECK(sky.lookup(normalize(above_horizon)).x > 2.f * sky.lookup(normalize(Vec3f{0.f, -0.05f, -1.f})).x);
+  params.up = {0.f, 0.f, 1.f};
+  params.direction = {0.f, 0.f, 1.f};
+  CHECK(normalize(sun_sky_lights(params).second.direction).x == Approx(1.f));  // it shines from -x
+}

@@ -44,16 +44,15 @@ std::vector<sciray::Light> Light::sun_sky() const {
   s.horizon_extension = light.get_float("horizonExtension", s.horizon_extension);
   s.color = light.get_vec3f("color", s.color);
   s.visible = light.get_bool("visible", s.visible);
-  // OSPRay's quantities: scale multiplies the model (0.025 unless set), radiance is
-  // 0.025 times that.
-  const int quantity = light.get_int("intensityQuantity", static_cast<int>(IntensityQuantity::radiance));
-  if (quantity == static_cast<int>(IntensityQuantity::scale))
-    s.scale = light.get_float("intensity", 0.025f);
-  else if (quantity == static_cast<int>(IntensityQuantity::radiance))
-    s.scale = 0.025f * light.get_float("intensity", 1.f);
-  else
+  // OSPRay 3.1's sunSky knows one quantity, scale, its default: `intensity` multiplies the
+  // model (0.025 unless set). Measured with its runtime: intensity 0.005 unset quantity
+  // shows the sky at 0.005 times the model; every other quantity renders black (with a
+  // warning), which sciray refuses.
+  const int quantity = light.get_int("intensityQuantity", static_cast<int>(IntensityQuantity::scale));
+  if (quantity != static_cast<int>(IntensityQuantity::scale))
     throw Error(light.name() + ": parameter 'intensityQuantity' value " + std::to_string(quantity) +
-                " is not supported by sunSky lights (OSP_INTENSITY_QUANTITY_RADIANCE or _SCALE)");
+                " is not supported by sunSky lights (only OSP_INTENSITY_QUANTITY_SCALE)");
+  s.scale = light.get_float("intensity", s.scale);
   try {
     auto [sky, sun] = sun_sky_lights(s);
     return {std::move(sky), sun};

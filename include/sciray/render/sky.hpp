@@ -120,9 +120,8 @@ inline Vec3f solar_radiance(float elevation, float turbidity) {
   return detail::xyz_to_linear_srgb(xyz);
 }
 
-/// OSPRay's `sunSky` parameters. `scale` multiplies the model's radiance (OSPRay's
-/// intensity in quantity scale; radiance quantity is 0.025 times that), and `color` both
-/// the sky and the sun.
+/// OSPRay's `sunSky` parameters. `scale` multiplies the model's radiance (OSPRay 3.1's
+/// `intensity`, whose only quantity is scale), and `color` both the sky and the sun.
 struct SunSky {
   Vec3f up{0.f, 1.f, 0.f};
   Vec3f direction{0.f, -1.f, 0.f};  ///< where the sunlight travels
@@ -150,15 +149,23 @@ inline void validate(const SunSky& s) {
   if (!(s.scale >= 0.f) || !std::isfinite(s.scale)) fail("intensity", "must be finite and not negative");
 }
 
+/// The horizontal direction the sky's azimuth is measured from and a sun below the horizon
+/// is put at: towards the sun; for a sun at the zenith or nadir, which has no azimuth,
+/// OSPRay 3.1's fixed choice (measured with its runtime: up (0,-1,0) and a sun at the
+/// nadir put the sun on the horizon at +z, up (0,0,1) at -x).
+inline Vec3f sky_azimuth_origin(const Vec3f& up, const Vec3f& to_sun) {
+  const Vec3f across = to_sun - up * dot(to_sun, up);
+  if (length(across) > 1e-3f) return normalize(across);
+  return normalize(std::abs(up.x) < std::abs(up.y) ? Vec3f{0.f, up.z, -up.y} : Vec3f{-up.z, 0.f, up.x});
+}
+
 /// The sky (an environment map) and the sun (a distant light) of `s`.
 inline std::pair<HdriLight, DistantLight> sun_sky_lights(const SunSky& s) {
   validate(s);
   constexpr float pi = std::numbers::pi_v<float>;
   constexpr int width = 512, height = 256;
   const Vec3f up = normalize(s.up), to_sun = -normalize(s.direction);
-  // The sky's azimuth 0 is the sun's; a sun (nearly) at the zenith or nadir has none.
-  const Vec3f across = to_sun - up * dot(to_sun, up);
-  const Vec3f forward = length(across) > 1e-3f ? normalize(across) : perpendicular(up);
+  const Vec3f forward = sky_azimuth_origin(up, to_sun);
   const float cos_sun = dot(up, to_sun);
   const float sun_theta = std::min(std::acos(std::clamp(cos_sun, -1.f, 1.f)), 0.999f * 0.5f * pi);
   // OSPRay's model holds the sky for a sun a little above the horizon at least.
