@@ -179,8 +179,13 @@ TEST_CASE("sample() reports the pdf and weight eval() gives for its direction", 
           const auto s = sample(nm.material, sp, wo, rng.next_float(), rng.next_float(), rng.next_float());
           if (!s || s->delta) continue;
           ++non_delta;
-          const BsdfValue v = eval(nm.material, sp, wo, s->wi);
+          // Where the shading normal sends wi through the geometric surface the other way,
+          // wi meets the surface again: eval() takes no light from there, and the sample
+          // is weighed on the shading normal's side.
+          const BsdfValue v = bsdf_detail::eval_towards(nm.material, sp, wo, s->wi, s->transmitted);
           INFO(nm.name << " at " << angle << " degrees, shading normal z " << sp.n.z);
+          if ((dot(s->wi, sp.ng) < 0.f) == s->transmitted) REQUIRE(eval(nm.material, sp, wo, s->wi).pdf == v.pdf);
+          else REQUIRE(eval(nm.material, sp, wo, s->wi).pdf == 0.f);
           REQUIRE(v.pdf == Approx(s->pdf).epsilon(1e-3));
           for (int c = 0; c < 3; ++c) REQUIRE(v.f_cos[c] / v.pdf == Approx(s->weight[c]).epsilon(1e-3).margin(1e-6));
         }
@@ -188,6 +193,39 @@ TEST_CASE("sample() reports the pdf and weight eval() gives for its direction", 
     INFO(nm.name);
     CHECK(non_delta > 1000);
   }
+}
+
+TEST_CASE("seen from below its shading normal, only the lobes that ignore wo scatter, about that normal", "[bsdf]") {
+  // A shading normal tilted 60 degrees, seen from 75 degrees the other side of the
+  // geometric one: OSPRay's Lambert ignores wo and keeps the normal (its runtime shows a
+  // tilted Lambertian quad alike from every side), and its other BSDFs give nothing.
+  ShadingPoint sp = flat();
+  sp.n = at_angle(60.f, 0.f);
+  const Vec3f wo = at_angle(75.f, pi);
+  REQUIRE(dot(sp.n, wo) < 0.f);
+  const ObjMaterial obj{{0.6f, 0.6f, 0.6f}, {0.3f, 0.3f, 0.3f}, 20.f, 1.f, {0.f, 0.f, 0.f}};
+  // Light along the geometric normal meets the shading normal at 60 degrees; the Phong
+  // lobe adds nothing, and Lambert's is the only pdf.
+  const BsdfValue up = eval(obj, sp, wo, sp.ng);
+  CHECK(up.f_cos.x == Approx(0.6f / pi * 0.5f).epsilon(1e-5));
+  CHECK(up.pdf == Approx(0.5f / pi).epsilon(1e-5));
+  // Samples are cosine-weighted about the shading normal, weight kd; the share below the
+  // geometric surface, (1 - cos 60) / 2, are reflections that meet the surface again.
+  Pcg32 rng(8, 1);
+  int below = 0;
+  const int n = 20000;
+  for (int i = 0; i < n; ++i) {
+    const auto s = sample(obj, sp, wo, rng.next_float(), rng.next_float(), rng.next_float());
+    REQUIRE(s);
+    REQUIRE_FALSE(s->transmitted);
+    REQUIRE(s->weight.x == Approx(0.6f).epsilon(1e-4));
+    below += dot(s->wi, sp.ng) < 0.f;
+  }
+  CHECK(static_cast<float>(below) / n == Approx(0.25f).margin(0.01f));
+  // A diffuse base under principled's specular layer, whose Fresnel needs wo above the
+  // normal, scatters nothing (OSPRay's dielectric layer neither).
+  CHECK_FALSE(sample(principled(0.f), sp, wo, 0.5f, 0.5f, 0.5f));
+  CHECK(eval(principled(0.f), sp, wo, sp.ng).pdf == 0.f);
 }
 
 TEST_CASE("eval's pdf integrates over the sphere to the probability of a non-delta sample", "[bsdf]") {
@@ -372,7 +410,10 @@ TEST_CASE("No NaN or Inf at grazing angles, below the surface or with degenerate
               REQUIRE(std::isfinite(s->pdf));
               REQUIRE(s->pdf > 0.f);
               REQUIRE(length(s->wi) == Approx(1.f).epsilon(1e-4));
-              REQUIRE((dot(s->wi, sp.ng) < 0.f) == s->transmitted);
+              // A delta lobe's side is the geometric surface's; another's the shading
+              // normal's, on which eval_towards() finds the direction.
+              if (s->delta) REQUIRE((dot(s->wi, sp.ng) < 0.f) == s->transmitted);
+              else REQUIRE(bsdf_detail::eval_towards(nm.material, sp, wo, s->wi, s->transmitted).pdf > 0.f);
             }
         for (int i = 0; i < 50; ++i) {
           const Vec3f wi = at_angle(180.f * rng.next_float(), 2.f * pi * rng.next_float());

@@ -27,6 +27,17 @@
 // weighted; sample() picks a part in that proportion and weights a non-delta direction by
 // the whole mix.
 //
+// Shading normals (interpolated, or tilted by a normal map) are followed as OSPRay 3.1's
+// are, as measured with its runtime: a surface seen from below its shading normal (but
+// from above the geometric surface) keeps that normal, and only the lobes that do not
+// depend on wo scatter (Lambert's, the straight pass-through; OSPRay's other BSDFs give
+// nothing for such a view); a normal that sees wo at a grazing angle bends towards it. A
+// non-delta lobe's direction on the reflected side of the shading normal but below the
+// geometric surface is a reflection all the same: the path tracer sends it off wo's side,
+// so it meets the surface again and scatters anew (the shading normal's white furnace
+// holds). eval() takes light only from the side of the geometric surface that the shading
+// normal agrees with: nothing reaches wo through the surface.
+//
 // Refraction does not scale radiance by 1/eta² (neither does OSPRay): the weights are
 // those of importance transport, so a path that enters and leaves a glass body keeps its
 // throughput.
@@ -202,27 +213,28 @@ inline Bsdf make_bsdf(const Material& material, const ShadingPoint& sp, const Ve
   Bsdf b;
   if (!(dot(wo, sp.ng) > 0.f)) return b;
   // The shading frame is the outermost layer's: a coat with a normal of its own has it.
-  b.frames[0] = Frame(facing(sp.coat_n.value_or(sp.n), wo, sp.ng), sp.tangent);
+  const Vec3f n = sp.coat_n.value_or(sp.n);
+  const bool from_below = dot(n, wo) <= 0.f;
+  b.frames[0] = Frame(from_below ? n : facing(n, wo, sp.ng), sp.tangent);
   b.wos[0] = b.frames[0].to_local(wo);
-  if (!(b.wo().z > 0.f)) return b;
+  if (!from_below && !(b.wo().z > 0.f)) return b;
   std::visit(
       [&](const auto& m) {
         // eval() and sample() take a mix apart into its parts before they build lobes.
         if constexpr (!std::is_same_v<std::decay_t<decltype(m)>, MixMaterial>) build(b, m, sp);
       },
       material);
+  if (from_below) b.keep_view_independent();
   b.finish();
   return b;
 }
 
-/// The non-delta mixture at wi (world space).
-inline BsdfValue evaluate(const Bsdf& b, const ShadingPoint& sp, const Vec3f& wi_world) {
+/// The non-delta mixture at wi (world space), of the lobes that scatter to the side of the
+/// shading normal `transmitted` names.
+inline BsdfValue evaluate(const Bsdf& b, const Vec3f& wi_world, bool transmitted) {
   std::array<Vec3f, Bsdf::max_frames> wi;
   for (int k = 0; k < b.frame_count; ++k) wi[k] = b.frames[k].to_local(wi_world);
-  const bool transmitted = dot(wi_world, sp.ng) < 0.f;
-  // The shading normal must agree with the geometric one about the side of wi (also
-  // rejects NaN).
-  if (!(transmitted ? wi[0].z < 0.f : wi[0].z > 0.f)) return {};
+  if (!(transmitted ? wi[0].z < 0.f : wi[0].z > 0.f)) return {};  // (also rejects NaN)
   BsdfValue result;
   for (int i = 0; i < b.count; ++i) {
     const Lobe& lobe = b.lobes[i];
@@ -255,23 +267,31 @@ void for_each_mix_part(const MixMaterial& mix, const ShadingPoint& sp, Fn&& f) {
   }
 }
 
-}  // namespace bsdf_detail
-
-/// f(wo, wi)·|cos θi| of the non-delta lobes and the pdf with which sample() draws wi.
-inline BsdfValue eval(const Material& m, const ShadingPoint& sp, const Vec3f& wo, const Vec3f& wi) {
+/// eval() of the lobes that scatter to the side of the shading normal `transmitted` names.
+inline BsdfValue eval_towards(const Material& m, const ShadingPoint& sp, const Vec3f& wo, const Vec3f& wi,
+                              bool transmitted) {
   if (const auto* mix = std::get_if<MixMaterial>(&m)) {
     // The parts' weights sum to 1, so the weighted pdfs are the pdf of picking a part by
     // its weight and then sampling it.
     BsdfValue sum;
-    bsdf_detail::for_each_mix_part(*mix, sp, [&](const Material& part, float weight) {
-      const BsdfValue v = eval(part, sp, wo, wi);
+    for_each_mix_part(*mix, sp, [&](const Material& part, float weight) {
+      const BsdfValue v = eval_towards(part, sp, wo, wi, transmitted);
       sum.f_cos += v.f_cos * weight;
       sum.pdf += v.pdf * weight;
     });
     return sum;
   }
-  const bsdf_detail::Bsdf b = bsdf_detail::make_bsdf(m, sp, wo);
-  return b.count > 0 ? bsdf_detail::evaluate(b, sp, wi) : BsdfValue{};
+  const Bsdf b = make_bsdf(m, sp, wo);
+  return b.count > 0 ? evaluate(b, wi, transmitted) : BsdfValue{};
+}
+
+}  // namespace bsdf_detail
+
+/// f(wo, wi)·|cos θi| of the non-delta lobes and the pdf with which sample() draws wi:
+/// light from a side of the geometric surface that the shading normal disagrees about
+/// does not reach wo.
+inline BsdfValue eval(const Material& m, const ShadingPoint& sp, const Vec3f& wo, const Vec3f& wi) {
+  return bsdf_detail::eval_towards(m, sp, wo, wi, dot(wi, sp.ng) < 0.f);
 }
 
 /// Draws wi: u_lobe picks the lobe, (u1, u2) the direction. nullopt: the path is absorbed.
@@ -293,7 +313,7 @@ inline std::optional<BsdfSample> sample(const Material& m, const ShadingPoint& s
       s->pdf *= picked;
       return s;
     }
-    const BsdfValue v = eval(m, sp, wo, s->wi);  // the whole mix, as eval() reports it
+    const BsdfValue v = eval_towards(m, sp, wo, s->wi, s->transmitted);  // the whole mix, as eval() reports it
     if (!(v.pdf > 0.f)) return std::nullopt;
     s->weight = v.f_cos / v.pdf;
     s->pdf = v.pdf;
@@ -311,11 +331,13 @@ inline std::optional<BsdfSample> sample(const Material& m, const ShadingPoint& s
   if (is_delta(lobe.kind)) {
     const auto d = sample_delta(lobe, b.wos[lobe.frame]);
     if (!d) return std::nullopt;
-    const bool transmitted = d->wi.z < 0.f;
-    const Vec3f wi = lobe.kind == LobeKind::straight ? -wo : normalize(frame.to_world(d->wi));
-    // Bent to the wrong side by the shading normal (or a flake's).
+    const bool straight = lobe.kind == LobeKind::straight;
+    const bool transmitted = straight || d->wi.z < 0.f;
+    const Vec3f wi = straight ? -wo : normalize(frame.to_world(d->wi));
+    // Bent to the wrong side by the shading normal (or a flake's); straight on passes
+    // through whatever the shading normal.
     const float cos_i = dot(wi, b.frames[0].n);
-    if ((dot(wi, sp.ng) < 0.f) != transmitted || (cos_i < 0.f) != transmitted) return std::nullopt;
+    if ((dot(wi, sp.ng) < 0.f) != transmitted || (!straight && (cos_i < 0.f) != transmitted)) return std::nullopt;
     const Vec3f weight = d->value * b.layer_transmittance(lobe.layers, cos_i) / lobe.probability;
     if (!finite_non_negative(weight) || !(max_component(weight) > 0.f)) return std::nullopt;
     return BsdfSample{wi, weight, lobe.probability, true, transmitted};
@@ -323,11 +345,14 @@ inline std::optional<BsdfSample> sample(const Material& m, const ShadingPoint& s
   const auto wi_local = sample_lobe(lobe, b.wos[lobe.frame], u1, u2);
   if (!wi_local) return std::nullopt;
   const Vec3f wi = normalize(frame.to_world(*wi_local));
-  const BsdfValue v = evaluate(b, sp, wi);  // the mixture, exactly as eval() reports it
+  // The side of the shading normal wi is on, not of the geometric surface: a reflection
+  // below the latter meets the surface again.
+  const bool transmitted = dot(wi, b.frames[0].n) < 0.f;
+  const BsdfValue v = evaluate(b, wi, transmitted);  // the mixture, as eval() reports it on that side
   if (!(v.pdf > 0.f)) return std::nullopt;
   const Vec3f weight = v.f_cos / v.pdf;
   if (!finite_non_negative(weight) || !(max_component(weight) > 0.f)) return std::nullopt;
-  return BsdfSample{wi, weight, v.pdf, false, dot(wi, sp.ng) < 0.f};
+  return BsdfSample{wi, weight, v.pdf, false, transmitted};
 }
 
 /// Radiance emitted towards wo: luminous color·intensity (both faces), principled

@@ -50,7 +50,11 @@ struct BsdfSample {
   Vec3f weight;      ///< f * |cos(n, wi)| / pdf
   float pdf;         ///< solid-angle pdf of wi; for delta lobes the probability of choosing that lobe
   bool delta;        ///< a specular (Dirac) lobe: not evaluable by eval(), no MIS
-  bool transmitted;  ///< wi is on the other side of the surface than wo (relative to ng)
+  /// The lobe sent wi to the other side of the surface than wo: through the geometric
+  /// surface for a delta lobe, through the shading one for others. A reflection that the
+  /// shading normal sends below the geometric surface is not transmitted: it leaves on
+  /// wo's side and meets the surface again (as OSPRay's).
+  bool transmitted;
 };
 
 struct BsdfValue {
@@ -78,6 +82,10 @@ enum class LobeKind {
 inline bool is_delta(LobeKind kind) { return kind >= LobeKind::mirror; }
 inline bool is_diffuse(LobeKind kind) {
   return kind == LobeKind::lambert || kind == LobeKind::lambert_transmission || kind == LobeKind::oren_nayar;
+}
+/// Scatters the same whatever wo: Lambert's lobes and the straight pass-through.
+inline bool is_view_independent(LobeKind kind) {
+  return kind == LobeKind::lambert || kind == LobeKind::lambert_transmission || kind == LobeKind::straight;
 }
 
 /// Layers of a stack above a lobe, each scaling it by what it lets through.
@@ -111,7 +119,7 @@ inline Vec3f facing(const Vec3f& n, const Vec3f& wo, const Vec3f& ng) {
 struct Bsdf {
   static constexpr int max_frames = 3;
   std::array<Frame, max_frames> frames{};  ///< [0]: the shading frame, which layers and the side test use
-  std::array<Vec3f, max_frames> wos{};     ///< wo in each frame (wos[0].z > 0)
+  std::array<Vec3f, max_frames> wos{};     ///< wo in each frame (wos[0].z > 0 unless seen from below)
   int frame_count = 1;
   std::array<Lobe, 8> lobes{};  // the most a principled material needs
   int count = 0;
@@ -145,6 +153,14 @@ struct Bsdf {
     const Vec3f wo_world = frames[0].to_world(wos[0]);
     frames[0] = frames[0].turned(radians);
     wos[0] = frames[0].to_local(wo_world);
+  }
+  /// Keeps only the lobes that do not depend on wo, with no layer (whose Fresnel does)
+  /// over them: those that scatter a view from below the shading normal.
+  void keep_view_independent() {
+    int kept = 0;
+    for (int i = 0; i < count; ++i)
+      if (is_view_independent(lobes[i].kind) && lobes[i].layers == 0u) lobes[kept++] = lobes[i];
+    count = kept;
   }
   /// Once every lobe is in: the probabilities sum to 1, and each layer knows whether what
   /// lies below it is purely diffuse.

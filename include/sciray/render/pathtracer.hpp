@@ -240,6 +240,8 @@ public:
           p.previous_delta = b->delta;
           p.previous_normal = p.sp.n;
           if (b->transmitted && has_medium(m)) p.medium = v.surface.front ? v.surface.material : no_material;
+          // A reflection leaves from wo's side even where the shading normal sent it below
+          // the geometric surface: it meets the surface again (as OSPRay's, whose furnace holds).
           p.org = p.p + (b->transmitted ? -p.sp.ng : p.sp.ng) * p.offset;
           p.dir = b->wi;
         }
