@@ -166,7 +166,16 @@ public:
     const F r(radius(i));
     switch (type_) {
       case SphereType::sphere: return intersect_sphere<Arch>(ray, c, r);
-      case SphereType::disc: return intersect_disc<Arch>(ray, c, r, -ray.dir);
+      case SphereType::disc: {
+        // A disc facing every ray stands for a round particle. A ray that leaves its surface
+        // (for shadows or ambient occlusion) would meet the copy of it that faces the new
+        // direction and shade the particle by itself: rays from inside the particle's
+        // sphere pass it, as Embree's own ray-facing discs skip self-intersections.
+        PrimitiveHit<Arch> hit = intersect_disc<Arch>(ray, c, r, -ray.dir);
+        const Vec3<F> from_center = ray.org - c;
+        hit.hit = hit.hit & (dot(from_center, from_center) > r * r);
+        return hit;
+      }
       case SphereType::oriented_disc: {
         const float* n = arrays_.normals.element(i);
         return intersect_disc<Arch>(ray, c, r, Vec3<F>(Vec3f{n[0], n[1], n[2]}));
