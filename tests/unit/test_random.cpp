@@ -41,6 +41,23 @@ bool is_net(const std::vector<PixelRandom::Pair>& points) {
 
 }  // namespace
 
+TEST_CASE("Sobol's second dimension from its direction numbers", "[random]") {
+  // v0 = 1/2, v(k+1) = vk xor vk/2: the definition, one index bit at a time.
+  const auto by_direction_numbers = [](std::uint32_t index) {
+    std::uint32_t x = 0, direction = 0x80000000U;
+    for (; index; index >>= 1, direction ^= direction >> 1)
+      if (index & 1U) x ^= direction;
+    return x;
+  };
+  for (std::uint32_t index : {0u, 1u, 2u, 3u, 5u, 16u, 255u, 1000u, 65535u, 0x12345678u, 0xffffffffu}) {
+    CAPTURE(index);
+    CHECK(sciray::reverse_bits(sciray::sobol_second_reversed(index)) == by_direction_numbers(index));
+    CHECK(sciray::reverse_bits(sciray::sobol_first_reversed(index)) == sciray::reverse_bits(index));
+  }
+  CHECK(sciray::reverse_bits(1u) == 0x80000000U);
+  CHECK(sciray::reverse_bits(0x12345678U) == 0x1e6a2c48U);
+}
+
 TEST_CASE("every aligned block of 2^k samples of a pixel is a (0,k,2)-net in every draw", "[random]") {
   for (std::uint32_t pixel : {0u, 1u, 77u, 65535u, 1u << 20})
     for (int draw = 1; draw <= 12; ++draw) {

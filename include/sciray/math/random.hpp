@@ -51,36 +51,40 @@ private:
 };
 
 constexpr std::uint32_t reverse_bits(std::uint32_t x) {
-  x = (x << 16) | (x >> 16);
-  x = ((x & 0x00ff00ffU) << 8) | ((x & 0xff00ff00U) >> 8);
-  x = ((x & 0x0f0f0f0fU) << 4) | ((x & 0xf0f0f0f0U) >> 4);
-  x = ((x & 0x33333333U) << 2) | ((x & 0xccccccccU) >> 2);
-  x = ((x & 0x55555555U) << 1) | ((x & 0xaaaaaaaaU) >> 1);
+  x = __builtin_bswap32(x);
+  x = ((x & 0x0f0f0f0fU) << 4) | ((x >> 4) & 0x0f0f0f0fU);
+  x = ((x & 0x33333333U) << 2) | ((x >> 2) & 0x33333333U);
+  x = ((x & 0x55555555U) << 1) | ((x >> 1) & 0x55555555U);
   return x;
 }
 
-/// Owen scrambling in base 2 of a 32-bit fraction: whether bit b (from the top) flips
-/// depends only on the bits above it, so every dyadic interval maps onto one of the same
-/// size. Laine and Karras's hash, applied to the reversed bits (Burley 2020).
-constexpr std::uint32_t owen_scramble(std::uint32_t x, std::uint32_t seed) {
-  x = reverse_bits(x);
+/// Laine and Karras's hash: a random permutation of 32-bit numbers in which bit b depends
+/// only on bits 0..b. Applied to a fraction's bits in reverse order it is Owen scrambling
+/// in base 2: each bit from the top flips depending only on the bits above it, so every
+/// dyadic interval maps onto one of the same size (Burley 2020).
+constexpr std::uint32_t laine_karras_permutation(std::uint32_t x, std::uint32_t seed) {
   x += seed;
   x ^= x * 0x6c50b47cU;
   x ^= x * 0xb82f1e52U;
   x ^= x * 0xc7afe638U;
   x ^= x * 0x8d22f6e6U;
-  return reverse_bits(x);
+  return x;
 }
 
-/// The two dimensions of Sobol's (0,2)-sequence at `index`, as 32-bit fractions: the
-/// first is the base-2 radical inverse; the second's direction numbers are v0 = 1/2,
-/// v(k+1) = vk xor vk/2.
-constexpr std::uint32_t sobol_first(std::uint32_t index) { return reverse_bits(index); }
-constexpr std::uint32_t sobol_second(std::uint32_t index) {
-  std::uint32_t x = 0, direction = 0x80000000U;
-  for (; index; index >>= 1, direction ^= direction >> 1)
-    if (index & 1U) x ^= direction;
-  return x;
+/// The two dimensions of Sobol's (0,2)-sequence at `index` as 32-bit fractions with their
+/// bits reversed (bit 0 the coarsest), the form Owen scrambling works on. The first is
+/// `index` itself (the radical inverse, reversed); the second's direction numbers are the
+/// rows of Pascal's triangle mod 2, so its bit j is the parity of the index bits k whose
+/// binary digits include j's (Lucas's theorem): a superset sum over the five bit
+/// positions of j, five shift-and-xor steps.
+constexpr std::uint32_t sobol_first_reversed(std::uint32_t index) { return index; }
+constexpr std::uint32_t sobol_second_reversed(std::uint32_t index) {
+  index ^= (index >> 1) & 0x55555555U;
+  index ^= (index >> 2) & 0x33333333U;
+  index ^= (index >> 4) & 0x0f0f0f0fU;
+  index ^= (index >> 8) & 0x00ff00ffU;
+  index ^= (index >> 16) & 0x0000ffffU;
+  return index;
 }
 
 /// The sample stream of one pixel sample: 2D draws stratified across the pixel's samples.
@@ -89,7 +93,7 @@ public:
   PixelRandom() : PixelRandom(0, 0) {}
   PixelRandom(std::uint32_t pixel, std::uint32_t sample)
       : pixel_seed_(hash32(pixel ^ 0x632be5abU)),
-        sample_(sample),
+        sample_reversed_(reverse_bits(sample)),
         pcg_((static_cast<std::uint64_t>(hash32(sample ^ hash32(pixel))) << 32) | hash32(sample * 0x9e3779b9U + pixel),
              pixel) {}
 
@@ -100,11 +104,14 @@ public:
   /// The next 2D sample in [0,1)^2.
   Pair next_2d() {
     const std::uint32_t seed = hash32(pixel_seed_ + 0x9e3779b9U * ++draws_);
-    // Each draw visits the pixel's samples in an order of its own (padding); being nested,
-    // the shuffle keeps every aligned block of 2^k samples a (0,k,2)-net.
-    const std::uint32_t index = owen_scramble(sample_, seed);
-    return {unit_float(owen_scramble(sobol_first(index), hash32(seed ^ 0xa511e9b3U))),
-            unit_float(owen_scramble(sobol_second(index), hash32(seed ^ 0x63d83595U)))};
+    // Each draw visits the pixel's samples in an order of its own (padding): the sample
+    // index Owen-scrambled, which keeps every aligned block of 2^k samples a (0,k,2)-net.
+    const std::uint32_t index = reverse_bits(laine_karras_permutation(sample_reversed_, seed));
+    const auto coordinate = [](std::uint32_t reversed, std::uint32_t scramble) {
+      return unit_float(reverse_bits(laine_karras_permutation(reversed, scramble)));
+    };
+    return {coordinate(sobol_first_reversed(index), seed * 0xa511e9b3U + 0x63d83595U),
+            coordinate(sobol_second_reversed(index), seed * 0x63d83595U + 0xa511e9b3U)};
   }
   float next_1d() { return next_2d().u; }
 
@@ -114,7 +121,7 @@ public:
   float next_independent() { return pcg_.next_float(); }
 
 private:
-  std::uint32_t pixel_seed_, sample_;
+  std::uint32_t pixel_seed_, sample_reversed_;
   std::uint32_t draws_ = 0;
   Pcg32 pcg_;
 };
