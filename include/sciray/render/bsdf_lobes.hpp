@@ -51,6 +51,7 @@ struct BsdfSample {
   float pdf;         ///< solid-angle pdf of wi; for delta lobes the probability of choosing that lobe
   bool delta;        ///< a specular (Dirac) lobe: not evaluable by eval(), no MIS
   bool transmitted;  ///< wi is on the other side of the surface than wo (relative to ng)
+  bool straight = false;  ///< the straight pass-through (wi = -wo), where shadow rays pass too (transparency())
 };
 
 struct BsdfValue {
