@@ -84,7 +84,7 @@ TEST_CASE("trilinear samples of a linear field are exact, for every voxel type a
   check_trilinear_sampling<std::int16_t, BrickedLayout>();
 }
 
-TEST_CASE("the trilinear filter's gradient is the interpolant's own, as Open VKL's (OSPRay's gradient shading)",
+TEST_CASE("volumes are shaded with the trilinear interpolant's own gradient, as Open VKL's (OSPRay's gradient shading)",
           "[volume]") {
   // Values 0, 1, 2, 1, 0 along z (OSPRay's Transparency scene's volume across its depth),
   // spacing 0.1 on a vertex-centred grid: the interpolant rises at 10 per unit up to the
@@ -101,7 +101,7 @@ TEST_CASE("the trilinear filter's gradient is the interpolant's own, as Open VKL
     for (int k = 0; k < 4; ++k) voxels->push_back(v);
   const VolumeGrid grid{{0.f, 0.f, 0.f}, {0.1f, 0.1f, 0.1f}, false};
   const StructuredRegular<float> volume({voxels->data(), d, voxels}, grid);
-  const auto gradient_at = [&](float voxel_z) { return volume.gradient<simd::scalar>(Vec3f{0.05f, 0.05f, 0.1f * voxel_z}); };
+  const auto gradient_at = [&](float voxel_z) { return volume.shading_gradient<simd::scalar>(Vec3f{0.05f, 0.05f, 0.1f * voxel_z}); };
   for (const float z : {0.f, 0.25f, 1.f, 1.75f, 1.999f}) {
     INFO("voxel z " << z);
     CHECK(gradient_at(z).z == Approx(10.f).epsilon(1e-4));
@@ -111,16 +111,18 @@ TEST_CASE("the trilinear filter's gradient is the interpolant's own, as Open VKL
     INFO("voxel z " << z);
     CHECK(gradient_at(z).z == Approx(-10.f).epsilon(1e-4));
   }
+  // gradient() (isosurface normals, smooth across cells) keeps central differences.
+  CHECK(volume.gradient<simd::scalar>(Vec3f{0.05f, 0.05f, 0.175f}).z == Approx(2.5f).epsilon(1e-4));
   // Outside the grid the clamped field is flat along the axes it left.
-  CHECK(volume.gradient<simd::scalar>(Vec3f{0.05f, 0.05f, -0.1f}).z == 0.f);
-  CHECK(volume.gradient<simd::scalar>(Vec3f{0.05f, 0.05f, 0.6f}).z == 0.f);
+  CHECK(volume.shading_gradient<simd::scalar>(Vec3f{0.05f, 0.05f, -0.1f}).z == 0.f);
+  CHECK(volume.shading_gradient<simd::scalar>(Vec3f{0.05f, 0.05f, 0.6f}).z == 0.f);
   // Packets agree with single lanes.
   using A = xsimd::default_arch;
   constexpr int W = simd::width<A>;
   alignas(64) float pz[W];
   for (int k = 0; k < W; ++k) pz[k] = 0.4f * (static_cast<float>(k) + 0.5f) / W;
-  const auto packet = volume.gradient<A>(Vec3<simd::Float<A>>{simd::Float<A>(0.05f), simd::Float<A>(0.05f), simd::load<A>(pz)});
-  for (int k = 0; k < W; ++k) CHECK(simd::lane(packet.z, k) == volume.gradient<simd::scalar>(Vec3f{0.05f, 0.05f, pz[k]}).z);
+  const auto packet = volume.shading_gradient<A>(Vec3<simd::Float<A>>{simd::Float<A>(0.05f), simd::Float<A>(0.05f), simd::load<A>(pz)});
+  for (int k = 0; k < W; ++k) CHECK(simd::lane(packet.z, k) == volume.shading_gradient<simd::scalar>(Vec3f{0.05f, 0.05f, pz[k]}).z);
 }
 
 TEST_CASE("nearest filtering and cell-centred grids", "[volume]") {

@@ -217,14 +217,11 @@ public:
     return lerp(lerp(x00, x10, wy), lerp(x01, x11, wy), wz);
   }
 
-  /// The gradient of the filtered field. Trilinear: the interpolant's own derivative in
-  /// the cell around p (exact; as Open VKL's, so as OSPRay's gradient shading and
-  /// isosurface normals), 0 along an axis on which p lies outside the grid (where the
-  /// clamped field is flat). The other filters: central differences of one voxel spacing.
+  /// The gradient of the filtered field by central differences of one voxel spacing:
+  /// continuous across cells, so isosurface normals show no facets.
   template <class Arch>
   Vec3<simd::Float<Arch>> gradient(const Vec3<simd::Float<Arch>>& p) const {
     using F = simd::Float<Arch>;
-    if (filter_ == VolumeFilter::linear) return trilinear_gradient<Arch>(p);
     const Vec3f h = grid_.spacing;
     const auto along = [&](const Vec3f& step, float length) {
       return (sample<Arch>(p + Vec3<F>(step)) - sample<Arch>(p - Vec3<F>(step))) * F(0.5f / length);
@@ -245,10 +242,14 @@ public:
     return range;
   }
 
-private:
-  /// The derivative of the trilinear interpolant at world positions `p`.
+  /// The gradient volumes are shaded with, as Open VKL's, which OSPRay's gradient shading
+  /// uses. Trilinear: the interpolant's own derivative in the cell around p (exact for the
+  /// field sampled; central differences flatten it near kinks and faces), 0 along an axis
+  /// on which p lies outside the grid (where the clamped field is flat). The other
+  /// filters: gradient().
   template <class Arch>
-  Vec3<simd::Float<Arch>> trilinear_gradient(const Vec3<simd::Float<Arch>>& p) const {
+  Vec3<simd::Float<Arch>> shading_gradient(const Vec3<simd::Float<Arch>>& p) const {
+    if (filter_ != VolumeFilter::linear) return gradient<Arch>(p);
     const VolumeDims& d = dims();
     const Vec3<simd::Float<Arch>> g = to_voxel(p);
     constexpr int W = simd::width<Arch>;
@@ -283,6 +284,7 @@ private:
     return {load<Arch>(out[0]), load<Arch>(out[1]), load<Arch>(out[2])};
   }
 
+private:
   /// The uniform cubic B-spline's four weights for a fraction f of a cell.
   static std::array<float, 4> bspline(float f) {
     const float f2 = f * f, f3 = f2 * f, g = 1.f - f;
