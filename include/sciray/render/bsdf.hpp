@@ -340,7 +340,7 @@ inline std::optional<BsdfSample> sample(const Material& m, const ShadingPoint& s
     if ((dot(wi, sp.ng) < 0.f) != transmitted || (!straight && (cos_i < 0.f) != transmitted)) return std::nullopt;
     const Vec3f weight = d->value * b.layer_transmittance(lobe.layers, cos_i) / lobe.probability;
     if (!finite_non_negative(weight) || !(max_component(weight) > 0.f)) return std::nullopt;
-    return BsdfSample{wi, weight, lobe.probability, true, transmitted};
+    return BsdfSample{wi, weight, lobe.probability, true, transmitted, lobe.kind == LobeKind::straight};
   }
   const auto wi_local = sample_lobe(lobe, b.wos[lobe.frame], u1, u2);
   if (!wi_local) return std::nullopt;
@@ -353,6 +353,55 @@ inline std::optional<BsdfSample> sample(const Material& m, const ShadingPoint& s
   const Vec3f weight = v.f_cos / v.pdf;
   if (!finite_non_negative(weight) || !(max_component(weight) > 0.f)) return std::nullopt;
   return BsdfSample{wi, weight, v.pdf, false, transmitted};
+}
+
+/// What a shadow ray meeting the surface along -wo lets through: the weight of the
+/// straight pass-through lobes (cut-out opacity, obj's filter tf, thin sheets, luminous
+/// transparency; a mix's parts weighted), which is exactly what sample() carries straight
+/// on, on average. So light sampled through the surface and light that BSDF sampling finds
+/// past it are one estimator's two halves (as OSPRay's transparent shadows, whose
+/// getTransparency gives the same filters). Refraction bends the light: it lets no shadow
+/// ray through (OSPRay's glass passes 1 - Fresnel straight on, a shadow without caustic).
+inline Vec3f transparency(const Material& m, const ShadingPoint& sp, const Vec3f& wo) {
+  using namespace bsdf_detail;
+  if (const auto* mix = std::get_if<MixMaterial>(&m)) {
+    Vec3f sum{0.f, 0.f, 0.f};
+    for_each_mix_part(*mix, sp, [&](const Material& part, float weight) { sum += transparency(part, sp, wo) * weight; });
+    return sum;
+  }
+  const Bsdf b = make_bsdf(m, sp, wo);
+  Vec3f through{0.f, 0.f, 0.f};
+  for (int i = 0; i < b.count; ++i) {
+    const Lobe& lobe = b.lobes[i];
+    // As sample() takes the lobe: forward in its frame, and -wo behind the shading normal.
+    if (lobe.kind != LobeKind::straight || !(b.wos[lobe.frame].z > 0.f)) continue;
+    const Vec3f weight = lobe.tint * b.layer_transmittance(lobe.layers, -b.wo().z);
+    if (finite_non_negative(weight)) through += weight;
+  }
+  return through;
+}
+
+/// Whether transparency() can let anything through the material (the geometry's colours'
+/// alpha aside, which cuts out obj and principled surfaces too).
+inline bool may_pass_straight(const Material& material) {
+  return std::visit(
+      [](const auto& m) -> bool {
+        using M = std::decay_t<decltype(m)>;
+        if constexpr (std::is_same_v<M, ObjMaterial>)
+          return m.d < 1.f || bsdf_detail::max_component(m.tf) > 0.f || m.map_d || m.map_kd.alpha;
+        else if constexpr (std::is_same_v<M, PrincipledMaterial>)
+          return m.opacity < 1.f || m.map_opacity || m.map_base_color.alpha ||
+                 (m.thin && (m.transmission > 0.f || m.map_transmission));
+        else if constexpr (std::is_same_v<M, ThinGlassMaterial>)
+          return true;
+        else if constexpr (std::is_same_v<M, LuminousMaterial>)
+          return m.transparency > 0.f;
+        else if constexpr (std::is_same_v<M, MixMaterial>)
+          return may_pass_straight(m.material1->material) || may_pass_straight(m.material2->material);
+        else
+          return false;
+      },
+      material);
 }
 
 /// Radiance emitted towards wo: luminous color·intensity (both faces), principled

@@ -55,6 +55,7 @@ struct BsdfSample {
   /// shading normal sends below the geometric surface is not transmitted: it leaves on
   /// wo's side and meets the surface again (as OSPRay's).
   bool transmitted;
+  bool straight = false;  ///< the straight pass-through (wi = -wo), where shadow rays pass too (transparency())
 };
 
 struct BsdfValue {

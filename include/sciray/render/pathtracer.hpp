@@ -14,7 +14,13 @@
 // (render/geometry_light.hpp) and weighed against BSDF sampling like every other light
 // with size; emitters of other types are found by BSDF sampling alone.
 //
-// Shadow rays are blocked by any surface, transparent or not: light through glass
+// Shadow rays pass surfaces that let light straight through (cut-out opacity, obj's
+// transmission filter, thin glass, luminous transparency: bsdf.hpp's transparency()),
+// filtered by them, as OSPRay's transparent shadows; so point and distant lights shine
+// through them. A path that passes such a surface straight on keeps the vertex before it
+// for multiple importance sampling (as OSPRay's): the light it then finds is weighed
+// against light sampling from that vertex, whose shadow ray came through the same surface,
+// and is not counted twice. Refracting surfaces stop shadow rays: light through glass
 // arrives only along BSDF-sampled paths (caustics from lights with size and from the
 // environment, none from point lights).
 //
@@ -84,7 +90,11 @@ public:
       normal_mapped_.push_back(has_normal_map(m));
       anisotropic_.push_back(is_anisotropic(m));
       derivatives_needed_.push_back(normal_mapped_.back() || anisotropic_.back());
+      transparent_shadows_ = transparent_shadows_ || may_pass_straight(m);
     }
+    // Colours' alpha cuts out any surface (and a surface without material is obj's).
+    if constexpr (requires { world.translucent_colors(); })
+      transparent_shadows_ = transparent_shadows_ || world.translucent_colors();
   }
 
   /// Each pixel's film positions come from a sequence of its own (render_frame), as in
@@ -182,11 +192,7 @@ public:
           continue;
         }
         const SurfacePoint& s = v.surface;
-        const bool mapped = s.material != no_material && normal_mapped_[s.material];
-        const Vec3f n = mapped ? mapped_normal(material(s), s.n, s.dpds, s.dpdt, s.uv) : s.n;
-        const auto coat_n = mapped ? mapped_coat_normal(material(s), s.n, s.dpds, s.dpdt, s.uv) : std::nullopt;
-        p.sp = {n, s.ng, s.front, s.color, s.alpha, s.p, coat_n, s.uv};
-        if (s.material != no_material && anisotropic_[s.material]) p.sp.tangent = s.dpds;
+        p.sp = shading_point(s);
         p.p = s.p;
         p.offset = detail::ray_offset(s.p, s.t, s.epsilon);
         p.material = &textured(material(s), s.uv, p.textured_material);
@@ -225,6 +231,8 @@ public:
           p.dir = scattered;
           p.previous_delta = false;
           p.previous_normal = splat(0.f);
+          p.vertex = p.p;
+          p.passed_straight = false;
           p.straight = p.specular_transmissions = false;
         } else {
           const Material& m = *p.material;
@@ -236,9 +244,14 @@ public:
           p.throughput = p.throughput * b->weight;
           p.straight = p.straight && b->wi == p.dir;
           p.specular_transmissions = p.specular_transmissions && b->delta && b->transmitted;
-          p.previous_pdf = b->pdf;
-          p.previous_delta = b->delta;
-          p.previous_normal = p.sp.n;
+          // Straight through: light found beyond is weighed as from the vertex before.
+          p.passed_straight = b->straight;
+          if (!b->straight) {
+            p.previous_pdf = b->pdf;
+            p.previous_delta = b->delta;
+            p.previous_normal = p.sp.n;
+            p.vertex = p.p;
+          }
           if (b->transmitted && has_medium(m)) p.medium = v.surface.front ? v.surface.material : no_material;
           // A reflection leaves from wo's side even where the shading normal sent it below
           // the geometric surface: it meets the surface again (as OSPRay's, whose furnace holds).
@@ -290,9 +303,13 @@ private:
     ShadingPoint sp;
     Vec3f p;
     float offset = 0.f;  // how far rays leaving p start off the surface (detail::ray_offset)
+    // The last vertex that chose the ray's direction (not passed straight through): its
+    // sampling's pdf, whether it was a delta lobe, its normal and position.
     float previous_pdf = 0.f;
     bool previous_delta = true;  // the camera ray: lights it sees count fully
     Vec3f previous_normal{0.f, 0.f, 1.f};
+    Vec3f vertex;
+    bool passed_straight = false;  // the ray starts on a surface passed straight through since that vertex
     std::uint32_t medium = no_material;  // the material whose interior the path is in
     Material textured_material;          // the current surface's material with its maps resolved
     const Material* material = nullptr;  // the material at the path's current surface
@@ -384,6 +401,7 @@ private:
   /// Lights the ray (org, dir) of path p reaches before distance t: lights with size in
   /// front of the surface, and lights at infinity where the ray escapes.
   void add_lights_along(Path& p, float t, int depth) const {
+    constexpr float inf = std::numeric_limits<float>::infinity();
     const float picked = light_pick_probability();
     for (std::size_t k = 0; k < light_count(); ++k)
       with_light(k, p.time, [&](const Light& light) {
@@ -391,8 +409,10 @@ private:
         // their straight transmissions through thinGlass and the like).
         if (p.straight && !std::visit([](const auto& l) { return l.visible; }, light)) return;
         if (is_delta(light)) return;
-        const LightEval e = eval(light, p.org, p.previous_normal, p.dir, t);
+        LightEval e = eval(light, p.org, p.previous_normal, p.dir, t);
         if (!(e.pdf > 0.f) && !(std::max({e.radiance.x, e.radiance.y, e.radiance.z}) > 0.f)) return;
+        // Light sampling at the vertex found it through the surfaces passed since: from there.
+        if (p.passed_straight && !p.previous_delta) e.pdf = eval(light, p.vertex, p.previous_normal, p.dir, inf).pdf;
         // The camera sees lights directly; a bounce after a specular lobe had no light sample to share with.
         float w = p.previous_delta ? 1.f : power_heuristic(p.previous_pdf, e.pdf * picked);
         if (!p.previous_delta && params_.light_sampling != LightSampling::mis)
@@ -527,7 +547,9 @@ private:
                                                      static_cast<std::uint32_t>(simd::lane(hit.prim_id, i)), ng_object, time);
     if (!(pdf_area > 0.f)) return 1.f;
     if (params_.light_sampling == LightSampling::lights_only) return 0.f;
-    const float t = simd::lane(hit.t, i), cos_light = std::abs(dot(p.dir, ng));
+    // The distance from the vertex that chose the direction (straight passes included).
+    const float t = simd::lane(hit.t, i) + (p.passed_straight ? length(p.org - p.vertex) : 0.f);
+    const float cos_light = std::abs(dot(p.dir, ng));
     return cos_light > 0.f ? power_heuristic(p.previous_pdf, pdf_area * t * t / cos_light) : 1.f;
   }
 
@@ -585,10 +607,53 @@ private:
     ray.tfar = simd::load<Arch>(ray_lanes[6]);
     ray.time = time;
     const M cast = simd::load<Arch>(ray_lanes[7]) > F(0.f);
-    const M unblocked = cast & !accel::occluded<Arch>(world_->scene(), ray, cast, false, world_->hit_filter());
+    Vec3f filter[W];
+    for (Vec3f& f : filter) f = splat(1.f);
+    const M unblocked = transparent_shadows_
+                            ? pass_transparent_surfaces(ray, cast, filter)
+                            : cast & !accel::occluded<Arch>(world_->scene(), ray, cast, false, world_->hit_filter());
     const F transmittance = volume_transmittance(path, ray, unblocked);
     for (int i = 0; i < W; ++i)
-      if (simd::lane(unblocked, i)) add(path[i], shadow[i].contribution * simd::lane(transmittance, i), 1);
+      if (simd::lane(unblocked, i)) add(path[i], shadow[i].contribution * filter[i] * simd::lane(transmittance, i), 1);
+  }
+
+  /// The lanes of `ray` that reach its end through surfaces that let light straight
+  /// through, each such surface's transparency() multiplied into the lane's `filter`. As
+  /// OSPRay's, a shadow ray passes fewer than maxPathLength surfaces.
+  M pass_transparent_surfaces(Ray<F> ray, M live, Vec3f* filter) const {
+    M reached(false);
+    for (int passed = 0; simd::any(live); ++passed) {
+      const auto hit = accel::intersect<Arch>(world_->scene(), ray, live, false, world_->hit_filter());
+      reached = reached | (live & !hit.hit);
+      if (passed + 1 >= params_.max_path_length) break;
+      alignas(64) float onward[W], tnear[W];
+      for (int i = 0; i < W; ++i) onward[i] = 0.f, tnear[i] = simd::lane(ray.tnear, i);
+      detail::for_each_surface<Arch>(
+          *world_, ray, hit, live & hit.hit,
+          [&](int i, const SurfacePoint& s) {
+            Material storage;
+            const Vec3f wo{-simd::lane(ray.dir.x, i), -simd::lane(ray.dir.y, i), -simd::lane(ray.dir.z, i)};
+            filter[i] = filter[i] * transparency(textured(material(s), s.uv, storage), shading_point(s), wo);
+            if (!(std::max({filter[i].x, filter[i].y, filter[i].z}) > 0.f)) return;
+            onward[i] = 1.f;
+            tnear[i] = s.t + detail::ray_offset(s.p, s.t, s.epsilon);
+          },
+          &derivatives_needed_);
+      live = simd::load<Arch>(onward) > F(0.f);
+      ray.tnear = simd::load<Arch>(tnear);
+    }
+    return reached;
+  }
+
+  /// The BSDF's view of a surface hit: its normal (mapped where the material has a normal
+  /// map), colour, side and, for anisotropic materials, tangent.
+  ShadingPoint shading_point(const SurfacePoint& s) const {
+    const bool mapped = s.material != no_material && normal_mapped_[s.material];
+    const Vec3f n = mapped ? mapped_normal(material(s), s.n, s.dpds, s.dpdt, s.uv) : s.n;
+    const auto coat_n = mapped ? mapped_coat_normal(material(s), s.n, s.dpds, s.dpdt, s.uv) : std::nullopt;
+    ShadingPoint sp{n, s.ng, s.front, s.color, s.alpha, s.p, coat_n, s.uv};
+    if (s.material != no_material && anisotropic_[s.material]) sp.tangent = s.dpds;
+    return sp;
   }
 
   const WorldT* world_;
@@ -597,6 +662,7 @@ private:
   std::vector<bool> normal_mapped_;       ///< per material: has a normal map
   std::vector<bool> anisotropic_;         ///< per material: reflects anisotropically (is_anisotropic)
   std::vector<bool> derivatives_needed_;  ///< per material: either, so its hits need dP/ds and dP/dt
+  bool transparent_shadows_ = false;      ///< some surface may let shadow rays through (transparency())
 };
 
 }  // namespace sciray

@@ -16,7 +16,10 @@
 // ao: OSPRay's ao renderer, an eye light: kd times |n·ω| (the surface as lit from the
 // camera), dimmed by occlusion as `aoIntensity` says — times 1 - aoIntensity + aoIntensity
 // times the unoccluded fraction of `aoSamples` rays (no dimming without samples); other
-// lights play no part. The same transparency and volumes (unlit) as scivis.
+// lights play no part. Volumes as scivis's (unlit); surfaces let 1 - d through, untinted
+// (OSPRay's ao has no tf), and block AO rays whatever their opacity (measured with OSPRay
+// 3.1's runtime: a kd 0 / tf 0.8 sheet shows black; a floor under a sheet of d 0.3 is as
+// occluded as under an opaque one).
 //
 // Shading runs on packets: the lanes of a packet that hit one geometry share a material,
 // and the directional and ambient lights are the same for every lane. A material with
@@ -354,9 +357,10 @@ private:
     return {simd::load<Arch>(out[0]), simd::load<Arch>(out[1]), simd::load<Arch>(out[2])};
   }
 
-  /// What a surface of opacity d and transmissive filter tf lets pass.
+  /// What a surface of opacity d and transmissive filter tf lets pass (ao: 1 - d alone).
   static Vec3<F> passing(const ObjLanes& o) {
     const F opaque = F(1.f) - o.d;
+    if constexpr (is_ao) return Vec3<F>{opaque, opaque, opaque};
     return Vec3<F>{opaque, opaque, opaque} + o.tf * o.d;
   }
 
@@ -536,9 +540,9 @@ private:
     return through;
   }
 
-  /// The surfaces' part of shadow_transmittance along `ray`.
+  /// The surfaces' part of shadow_transmittance along `ray` (ao's AO rays: any surface blocks).
   Vec3<F> surface_transmittance(Ray<F> ray, const M& lanes) const {
-    if (!any_transparent_) {
+    if (is_ao || !any_transparent_) {
       const M blocked = accel::occluded<Arch>(world_->scene(), ray, lanes, false, world_->hit_filter());
       return select(blocked, Vec3<F>(splat(0.f)), Vec3<F>(splat(1.f)));
     }

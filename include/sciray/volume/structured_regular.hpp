@@ -217,7 +217,8 @@ public:
     return lerp(lerp(x00, x10, wy), lerp(x01, x11, wy), wz);
   }
 
-  /// The gradient of the filtered field by central differences of one voxel spacing.
+  /// The gradient of the filtered field by central differences of one voxel spacing:
+  /// continuous across cells, so isosurface normals show no facets.
   template <class Arch>
   Vec3<simd::Float<Arch>> gradient(const Vec3<simd::Float<Arch>>& p) const {
     using F = simd::Float<Arch>;
@@ -239,6 +240,48 @@ public:
           range[0] = std::min(range[0], v), range[1] = std::max(range[1], v);
         }
     return range;
+  }
+
+  /// The gradient volumes are shaded with, as Open VKL's, which OSPRay's gradient shading
+  /// uses. Trilinear: the interpolant's own derivative in the cell around p (exact for the
+  /// field sampled; central differences flatten it near kinks and faces), 0 along an axis
+  /// on which p lies outside the grid (where the clamped field is flat). The other
+  /// filters: gradient().
+  template <class Arch>
+  Vec3<simd::Float<Arch>> shading_gradient(const Vec3<simd::Float<Arch>>& p) const {
+    if (filter_ != VolumeFilter::linear) return gradient<Arch>(p);
+    const VolumeDims& d = dims();
+    const Vec3<simd::Float<Arch>> g = to_voxel(p);
+    constexpr int W = simd::width<Arch>;
+    alignas(64) float gx[W], gy[W], gz[W], out[3][W];
+    store<Arch>(gx, g.x), store<Arch>(gy, g.y), store<Arch>(gz, g.z);
+    for (int i = 0; i < W; ++i) {
+      const float c[3] = {gx[i], gy[i], gz[i]};
+      std::int64_t corner[3];
+      float f[3];
+      bool inside[3];
+      for (int k = 0; k < 3; ++k) {
+        const float last = static_cast<float>(d[k] - 1);
+        inside[k] = c[k] >= 0.f && c[k] <= last;
+        const float clamped = std::clamp(c[k], 0.f, last);
+        // The cell's lower corner, kept one short of the last voxel so the cell exists.
+        corner[k] = std::min<std::int64_t>(static_cast<std::int64_t>(clamped), d[k] - 2);
+        f[k] = clamped - static_cast<float>(corner[k]);
+      }
+      float v[8];  // corner (dx, dy, dz) at dx + 2 dy + 4 dz
+      layout_.cell(corner[0], corner[1], corner[2], v);
+      const float ex = 1.f - f[0], ey = 1.f - f[1], ez = 1.f - f[2];
+      const float dx = ey * ez * (v[1] - v[0]) + f[1] * ez * (v[3] - v[2]) + ey * f[2] * (v[5] - v[4]) +
+                       f[1] * f[2] * (v[7] - v[6]);
+      const float dy = ex * ez * (v[2] - v[0]) + f[0] * ez * (v[3] - v[1]) + ex * f[2] * (v[6] - v[4]) +
+                       f[0] * f[2] * (v[7] - v[5]);
+      const float dz = ex * ey * (v[4] - v[0]) + f[0] * ey * (v[5] - v[1]) + ex * f[1] * (v[6] - v[2]) +
+                       f[0] * f[1] * (v[7] - v[3]);
+      out[0][i] = inside[0] ? dx * inv_spacing_.x : 0.f;
+      out[1][i] = inside[1] ? dy * inv_spacing_.y : 0.f;
+      out[2][i] = inside[2] ? dz * inv_spacing_.z : 0.f;
+    }
+    return {load<Arch>(out[0]), load<Arch>(out[1]), load<Arch>(out[2])};
   }
 
 private:

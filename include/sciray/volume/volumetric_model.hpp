@@ -445,7 +445,7 @@ private:
                                           const simd::Mask<Arch>& lanes, const Shade& shade) const {
     using F = simd::Float<Arch>;
     // Flat in object space (as OSPRay asks), else the gradient as a world normal.
-    const Vec3<F> object_g = volume_->template gradient<Arch>(p);
+    const Vec3<F> object_g = volume_->template shading_gradient<Arch>(p);
     const auto lit_lanes = lanes & (dot(object_g, object_g) > F(1e-6f));
     if (!simd::any(lit_lanes)) return color;
     const Vec3<F> g = placed.world_normal(object_g);
