@@ -1,11 +1,12 @@
 #pragma once
 // Curves (OSPRay's `curve`): streamlines, bonds, fibres. Embree intersects them exactly
 // on its x,y,z,r control points; sciray maps OSPRay's `type` and `basis` onto Embree's
-// curve kinds and interpolates per-vertex colours along the hit segment.
+// curve kinds and blends per-vertex colours with the hit segment's basis.
 //   round linear    = tubes with rounded joints (streamlines, bonds)
 //   disjoint linear = cones per segment with no joints
 //   flat            = ribbons that face the ray; ribbon = oriented by `vertex.normal`
 //   bezier, b-spline, Catmull-Rom, Hermite (with `vertex.tangent`) = smooth tubes
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <memory>
@@ -132,19 +133,20 @@ public:
       s.has_color = simd::Mask<Arch>(false);
       return s;
     }
-    // Colour varies linearly between the two control points the segment runs between.
+    // The colour is the segment's curve over its vertex colours, as OSPRay weighs them.
     const I first = simd::gather<Arch>(reinterpret_cast<const std::int32_t*>(d.indices.data()),
                                        simd::select(lanes, hit.prim_id, I(0)));
-    const auto [from, to] = colour_span();
-    const I a = (first + I(from)) * I(4), b = (first + I(to)) * I(4);
-    const F t = simd::min(simd::max(hit.u, F(0.f)), F(1.f));
+    const std::array<F, 4> weight = colour_weights(simd::min(simd::max(hit.u, F(0.f)), F(1.f)));
     const float* c = d.colors.data();
-    const auto lerp = [&](int k) {
-      const F ca = simd::gather<Arch>(c, a + I(k));
-      return ca + (simd::gather<Arch>(c, b + I(k)) - ca) * t;
+    const auto blend = [&](int k) {
+      F sum(0.f);
+      for (std::uint32_t p = 0; p < points_per_segment(); ++p)
+        sum += weight[p] * simd::gather<Arch>(c, (first + I(static_cast<std::int32_t>(p))) * I(4) + I(k));
+      return sum;
     };
-    s.color = {lerp(0), lerp(1), lerp(2)};
-    s.alpha = lerp(3);
+    s.color = {blend(0), blend(1), blend(2)};
+    // Catmull-Rom weights overshoot between their points; alpha is an opacity all the same.
+    s.alpha = simd::min(simd::max(blend(3), F(0.f)), F(1.f));
     return s;
   }
 
@@ -154,14 +156,21 @@ private:
     return b == CurveBasis::linear || b == CurveBasis::hermite ? 2 : 4;
   }
 
-  /// Which of a segment's control points its colour runs between: a B-spline or
-  /// Catmull-Rom segment spans its middle two, the others their ends.
-  std::pair<std::int32_t, std::int32_t> colour_span() const {
+  /// Each control point's weight in a segment's colour at parameter u: the basis functions
+  /// of the cubic curves (a B-spline's colour at u is the B-spline of its vertex colours);
+  /// linear and Hermite segments blend their two ends.
+  template <class F>
+  std::array<F, 4> colour_weights(const F& u) const {
+    const F s = F(1.f) - u, u2 = u * u, s2 = s * s, u3 = u2 * u, s3 = s2 * s;
     switch (data_->basis) {
       case CurveBasis::bspline:
-      case CurveBasis::catmull_rom: return {1, 2};
-      case CurveBasis::bezier: return {0, 3};
-      default: return {0, 1};
+        return {s3 * F(1.f / 6.f), (F(3.f) * u3 - F(6.f) * u2 + F(4.f)) * F(1.f / 6.f),
+                (F(3.f) * s3 - F(6.f) * s2 + F(4.f)) * F(1.f / 6.f), u3 * F(1.f / 6.f)};
+      case CurveBasis::catmull_rom:
+        return {F(-0.5f) * s2 * u, (F(3.f) * u3 - F(5.f) * u2 + F(2.f)) * F(0.5f),
+                (F(3.f) * s3 - F(5.f) * s2 + F(2.f)) * F(0.5f), F(-0.5f) * u2 * s};
+      case CurveBasis::bezier: return {s3, F(3.f) * s2 * u, F(3.f) * s * u2, u3};
+      default: return {s, u, F(0.f), F(0.f)};
     }
   }
 
