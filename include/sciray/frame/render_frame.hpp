@@ -149,7 +149,6 @@ std::uint32_t render_frame(const Renderer& renderer, const CameraT& camera, Fram
       if (!fb.tile_converged(tile, settings.variance_threshold)) {
         const std::uint32_t tile_frames = fb.tile_frames(tile);
         const std::uint32_t first_sample = tile_frames * samples;
-        const bool needs_sequence = uses_lens || film_per_pixel;
         const int tile_x0 = (tile % fb.tiles_x()) * tile_size, tile_y0 = (tile / fb.tiles_x()) * tile_size;
         for (int y0 = tile_y0; y0 < std::min(tile_y0 + tile_size, height); y0 += S::height) {
           for (int x0 = tile_x0; x0 < std::min(tile_x0 + tile_size, width); x0 += S::width) {
@@ -172,7 +171,7 @@ std::uint32_t render_frame(const Renderer& renderer, const CameraT& camera, Fram
             const F pixel_y = F(static_cast<float>(y0) + 0.5f) + lane_dy;
             const F center_x = pixel_x * F(inv_width), center_y = pixel_y * F(inv_height);
             std::optional<CameraSequence<Arch>> sequence;
-            if (needs_sequence) sequence.emplace(pixels);
+            if (uses_lens) sequence.emplace(pixels);
             // Sample s of every lane, and its projected depth.
             F projected;
             const auto render_sample = [&](std::uint32_t s) {
@@ -181,10 +180,10 @@ std::uint32_t render_frame(const Renderer& renderer, const CameraT& camera, Fram
               if (uses_lens) cs = (*sequence)(sample_index);
               F offset_x, offset_y;
               if (film_per_pixel) {
-                const FilmSamples<F> film = sequence->film(sample_index);
                 alignas(64) float ox[W], oy[W];
                 for (int i = 0; i < W; ++i) {
-                  const FilterOffset o = filter.sample(simd::lane(film.film_u, i), simd::lane(film.film_v, i));
+                  const auto [u, v] = path_film_point(static_cast<std::uint32_t>(pixel[i]), sample_index);
+                  const FilterOffset o = filter.sample(u, v);
                   ox[i] = o.x, oy[i] = o.y;
                 }
                 offset_x = simd::load<Arch>(ox), offset_y = simd::load<Arch>(oy);
