@@ -106,7 +106,7 @@ TEST_CASE("without an accum channel every frame replaces the last", "[frame]") {
   CHECK(fb.tile_frames(0) == 0);  // every frame renders sample 0
 }
 
-TEST_CASE("normal and albedo average like colour; ids are the latest frame's", "[frame]") {
+TEST_CASE("normal and albedo average like colour; ids are the first frame's", "[frame]") {
   const unsigned all = channel_color | channel_accum | channel_normal | channel_albedo | channel_id_primitive |
                        channel_id_object | channel_id_instance;
   FrameBuffer fb(2, 1, ColorFormat::rgba32f, all);
@@ -122,7 +122,10 @@ TEST_CASE("normal and albedo average like colour; ids are the latest frame's", "
   CHECK(fb.object_id()[0] == 2u);
   CHECK(fb.instance_id()[0] == 1u);
   CHECK(fb.primitive_id()[1] == no_id);
-  // A second frame misses: normal and albedo average, ids say nothing was hit.
+  // A second frame misses: normal and albedo average; the ids stay the first frame's, as
+  // OSPRay 3.1 writes them only for a tile's first accumulated frame (measured: a scene
+  // of spheres at 2 samples per pixel shows the same ids after 3 frames as after 1,
+  // although the later frames' samples lie elsewhere in the pixels).
   s.normal = {0.f, 0.f, 0.f}, s.albedo = {0.f, 0.f, 0.f};
   s.prim_id = s.geom_id = s.inst_id = -1;
   fb.write_packet<simd::scalar>(&pixel, s, 1.f);
@@ -130,10 +133,27 @@ TEST_CASE("normal and albedo average like colour; ids are the latest frame's", "
   CHECK(fb.normal()[2] == Approx(0.5f));
   CHECK(fb.albedo()[0] == Approx(0.4f));
   CHECK(fb.albedo()[1] == Approx(0.2f));
+  CHECK(fb.primitive_id()[0] == 7u);
+  CHECK(fb.object_id()[0] == 2u);
+  CHECK(fb.instance_id()[0] == 1u);
+  CHECK(fb.memory_bytes() == 2 * (4 * 4 + 4 * 4 + 3 * 4 + 3 * 4 + 3 * 4));
+  // After a reset the next frame is a first frame again.
+  fb.reset_accumulation();
+  fb.write_packet<simd::scalar>(&pixel, s, 1.f);
+  finish(fb);
   CHECK(fb.primitive_id()[0] == no_id);
   CHECK(fb.object_id()[0] == no_id);
   CHECK(fb.instance_id()[0] == no_id);
-  CHECK(fb.memory_bytes() == 2 * (4 * 4 + 4 * 4 + 3 * 4 + 3 * 4 + 3 * 4));
+
+  // Without accumulation every frame is a first frame: the latest frame's ids.
+  FrameBuffer single(1, 1, ColorFormat::rgba32f, channel_color | channel_id_primitive);
+  s.prim_id = 7;
+  single.write_packet<simd::scalar>(&pixel, s, 1.f);
+  finish(single);
+  s.prim_id = -1;
+  single.write_packet<simd::scalar>(&pixel, s, 1.f);
+  finish(single);
+  CHECK(single.primitive_id()[0] == no_id);
 }
 
 TEST_CASE("frames are counted per tile: a tile left out keeps its average", "[frame]") {
@@ -366,6 +386,42 @@ TEST_CASE("pixel sample points: OSPRay's Halton points, the same in every pixel"
   for (int c : cells) CHECK(std::abs(c - 36) <= 4);
 }
 
+TEST_CASE("path tracer film points: OSPRay's per-pixel rotated Sobol points", "[frame][filter]") {
+  // OSPRay 3.1's path tracer film points (Sobol index n + 64, rotated per pixel and
+  // dimension), computed by hand from its sampler's definition; with them sciray's path
+  // tracer ids equal OSPRay's in every pixel of a 48x48 scene of spheres at 1 and 2 spp.
+  const float expected[4][4] = {{0, 0, 0.812221825f, 0.0681381226f},
+                                {0, 1, 0.312221766f, 0.568138123f},
+                                {1000, 0, 0.906463444f, 0.139675617f},
+                                {1000, 1, 0.406463385f, 0.639675617f}};
+  for (const auto& e : expected) {
+    const auto [u, v] = path_film_point(static_cast<std::uint32_t>(e[0]), static_cast<std::uint32_t>(e[1]));
+    CHECK(u == Approx(e[2]).margin(1e-6));
+    CHECK(v == Approx(e[3]).margin(1e-6));
+  }
+  // A pixel's first 64 points, less its rotation, are k / 64 in the first dimension and
+  // 64 distinct multiples of 1/128 in the second (Sobol points 64..127).
+  for (std::uint32_t pixel : {0u, 77u, 123456u}) {
+    const auto first = path_film_point(pixel, 0);
+    std::array<int, 64> u_cells{};
+    std::array<int, 128> v_cells{};
+    for (std::uint32_t n = 0; n < 64; ++n) {
+      const auto [u, v] = path_film_point(pixel, n);
+      REQUIRE(u >= 0.f);
+      REQUIRE(u < 1.f);
+      REQUIRE(v >= 0.f);
+      REQUIRE(v < 1.f);
+      const auto cell = [](float x, float x0, float cells) {
+        return static_cast<std::size_t>(std::lround(std::fmod(x - x0 + 1.f, 1.f) * cells)) % static_cast<std::size_t>(cells);
+      };
+      ++u_cells[cell(u, first[0], 64.f)];
+      ++v_cells[cell(v, first[1], 128.f)];
+    }
+    for (int count : u_cells) CHECK(count == 1);
+    CHECK(std::count(v_cells.begin(), v_cells.end(), 1) == 64);
+  }
+}
+
 namespace {
 
 /// A renderer of a screen-space pattern plus noise, for testing the frame loop without a
@@ -432,8 +488,8 @@ TEST_CASE("render_frame: one sample at the pixel centre first; pixelSamples aver
   for (int x : {0, 17, 63}) CHECK(fb.color32f()[4 * (5 * 64 + x)] == Approx(0.5f + 0.2f * ((x + 0.5f) / 64 - 0.5f)));
   CHECK(fb.primitive_id()[0] == 0u);
 
-  // One frame of 4 samples is the average of the first 4 one-sample frames; depth and
-  // ids come from the nearest of the frame's samples (t = 100 - sample % 7).
+  // One frame of 4 samples is the average of the first 4 one-sample frames; depth comes
+  // from the nearest of the frame's samples (t = 100 - sample % 7), ids from its last.
   PatternRenderer<A> noisy;
   noisy.noise_left = noisy.noise_right = 0.5f;
   FrameBuffer four(64, 64, ColorFormat::rgba32f, accumulating | channel_id_primitive | channel_normal);
@@ -448,15 +504,45 @@ TEST_CASE("render_frame: one sample at the pixel centre first; pixelSamples aver
   CHECK(four.primitive_id()[100] == 3u);
   CHECK(four.depth()[100] == 97.f);
   CHECK(four.normal()[3 * 100 + 2] == 1.f);
-  // The next frame continues with samples 4..7.
+  // The next frame continues with samples 4..7 (nearest: 6); the ids stay the first frame's.
   render_frame<A>(noisy, camera, four, nullptr, settings);
-  CHECK(four.primitive_id()[100] == 6u);
+  CHECK(four.depth()[100] == 94.f);
+  CHECK(four.primitive_id()[100] == 3u);
 
   settings.pixel_samples = 0;
   CHECK_THROWS_WITH(render_frame<A>(noisy, camera, four, nullptr, settings), Catch::Contains("'pixelSamples'"));
   settings.pixel_samples = 1;
   settings.variance_threshold = -1.f;
   CHECK_THROWS_WITH(render_frame<A>(noisy, camera, four, nullptr, settings), Catch::Contains("'varianceThreshold'"));
+}
+
+namespace {
+/// PatternRenderer whose ids come from the nearest sample, as the path tracer's.
+template <class Arch>
+struct NearestIdPatternRenderer : PatternRenderer<Arch> {
+  bool ids_from_nearest_sample() const { return true; }
+};
+}  // namespace
+
+TEST_CASE("render_frame: ids of the frame's last sample, or of its nearest hit where the renderer asks",
+          "[frame][render_frame]") {
+  // OSPRay 3.1, measured on a scene of spheres seen through an orthographic camera at
+  // 2 and 3 samples per pixel: scivis ids are those of the pixel's last sample in every
+  // one of the 256 (2 spp) and 276 (3 spp) pixels where the nearest hit would differ,
+  // even where that sample misses (-1 beside a hit); its path tracer keeps the nearest
+  // sample's (PathTracer_renderPixel compares depths).
+  using A = xsimd::sse2;
+  const Camera camera = unit_square();
+  FrameSettings settings;
+  settings.pixel_samples = 8;  // t = 100 - sample % 7: 100, 99, ..., 94, 100
+  FrameBuffer last(16, 16, ColorFormat::rgba32f, accumulating | channel_id_primitive);
+  render_frame<A>(PatternRenderer<A>{}, camera, last, nullptr, settings);
+  CHECK(last.primitive_id()[5] == 7u);
+  CHECK(last.depth()[5] == 94.f);
+  FrameBuffer nearest(16, 16, ColorFormat::rgba32f, accumulating | channel_id_primitive);
+  render_frame<A>(NearestIdPatternRenderer<A>{}, camera, nearest, nullptr, settings);
+  CHECK(nearest.primitive_id()[5] == 6u);
+  CHECK(nearest.depth()[5] == 94.f);
 }
 
 TEST_CASE("render_frame: images do not depend on the thread count or the packet width", "[frame][render_frame]") {

@@ -39,9 +39,9 @@ enum Channel : unsigned {
   channel_variance = 1u << 3,  ///< estimate the error of the average (needs accum)
   channel_normal = 1u << 4,  ///< world-space shading normal of the first hit (averaged like colour)
   channel_albedo = 1u << 5,  ///< albedo of the first hit (averaged like colour)
-  channel_id_primitive = 1u << 6,  ///< primitive id of the first hit, latest frame
-  channel_id_object = 1u << 7,     ///< geometry id of the first hit, latest frame
-  channel_id_instance = 1u << 8,   ///< instance id of the first hit, latest frame
+  channel_id_primitive = 1u << 6,  ///< primitive id of the first hit, first frame
+  channel_id_object = 1u << 7,     ///< geometry id of the first hit, first frame
+  channel_id_instance = 1u << 8,   ///< instance id of the first hit, first frame
 };
 
 /// Pixels of one tile side: the unit of parallel rendering and of adaptive accumulation.
@@ -162,7 +162,8 @@ public:
                     const simd::Float<Arch>& depth_projected) {
     constexpr int W = simd::width<Arch>;
     // Frames of each lane's tile before this one (a stamp lies in one tile, but lanes
-    // are looked up one by one so that any packet works); only averaged channels need them.
+    // are looked up one by one so that any packet works); only averaged channels and ids
+    // need them, and without accumulation every tile stays at 0 frames.
     alignas(64) std::uint32_t before[W] = {};
     if (averages())
       for (int i = 0; i < W; ++i) before[i] = pixel[i] >= 0 ? tile_frames(tile_of(pixel[i])) : 0;
@@ -230,7 +231,10 @@ public:
   const std::vector<float>& normal() const { return normal_; }
   /// Average albedo, rgb per pixel.
   const std::vector<float>& albedo() const { return albedo_; }
-  /// Ids of the first hit in the latest frame (no_id where nothing was hit).
+  /// Ids of the first hit in the first frame since the last reset (no_id where nothing
+  /// was hit): OSPRay writes them only while a tile has no frames, so accumulating frames
+  /// (whose samples lie elsewhere in the pixel) leave them as they are; without
+  /// accumulation every frame is a first frame.
   const std::vector<std::uint32_t>& primitive_id() const { return primitive_id_; }
   const std::vector<std::uint32_t>& object_id() const { return object_id_; }
   const std::vector<std::uint32_t>& instance_id() const { return instance_id_; }
@@ -264,9 +268,9 @@ private:
       for (int i = 0; i < W; ++i)
         if (pixel[i] >= 0) depth_[pixel[i]] = t[i], depth_projected_[pixel[i]] = tz[i];
     }
-    store_ids<Arch>(pixel, primitive_id_, sample.prim_id);
-    store_ids<Arch>(pixel, object_id_, sample.geom_id);
-    store_ids<Arch>(pixel, instance_id_, sample.inst_id);
+    store_ids<Arch>(pixel, before, primitive_id_, sample.prim_id);
+    store_ids<Arch>(pixel, before, object_id_, sample.geom_id);
+    store_ids<Arch>(pixel, before, instance_id_, sample.inst_id);
     average_into<Arch>(pixel, before, normal_, sample.normal);
     average_into<Arch>(pixel, before, albedo_, sample.albedo);
     if (has(channel_accum)) {
@@ -323,13 +327,16 @@ private:
     return static_cast<float>(scale * sum / static_cast<double>(tile_pixels(tile)));
   }
 
+  /// Writes the ids of the lanes whose tile has no frames yet (see primitive_id()).
   template <class Arch>
-  static void store_ids(const std::int32_t* pixel, std::vector<std::uint32_t>& channel, const simd::Int<Arch>& ids) {
+  static void store_ids(const std::int32_t* pixel, const std::uint32_t* before, std::vector<std::uint32_t>& channel,
+                        const simd::Int<Arch>& ids) {
     if (channel.empty()) return;
     alignas(64) std::int32_t values[simd::width<Arch>];
     simd::store<Arch>(values, ids);
     for (int i = 0; i < simd::width<Arch>; ++i)
-      if (pixel[i] >= 0) channel[static_cast<std::size_t>(pixel[i])] = static_cast<std::uint32_t>(values[i]);
+      if (pixel[i] >= 0 && before[i] == 0)
+        channel[static_cast<std::size_t>(pixel[i])] = static_cast<std::uint32_t>(values[i]);
   }
 
   /// Running mean of a 3-vector channel over the tile's frames (the latest value without

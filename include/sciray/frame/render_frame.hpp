@@ -85,8 +85,9 @@ concept PreparedCamera = requires(const C& camera, const simd::Float<Arch>& s, c
 /// `settings.pixel_samples` samples per pixel (sample index frame * pixel_samples + s,
 /// the frame counted per tile), each at the offset the pixel filter gives OSPRay's
 /// sample point of that index, and at the lens position of the pixel's camera sequence. Colour, alpha, normal and
-/// albedo are averaged over the frame's samples; depth and ids come from the nearest
-/// hit among them. Tiles the frame buffer reports converged below
+/// albedo are averaged over the frame's samples; depth comes from the nearest hit among
+/// them, ids (as OSPRay's) from the frame's last sample, or from its nearest hit for a
+/// renderer whose ids_from_nearest_sample() says so (the path tracer). Tiles the frame buffer reports converged below
 /// `settings.variance_threshold` are skipped. Returns the number of tiles rendered.
 /// Run it inside a tbb::task_arena to bound the threads.
 template <class Arch, class Renderer, class CameraT>
@@ -133,6 +134,10 @@ std::uint32_t render_frame(const Renderer& renderer, const CameraT& camera, Fram
   // The path tracer, as OSPRay's, places each pixel's samples on a sequence of its own.
   bool film_per_pixel = false;
   if constexpr (requires { renderer.jitters_film_per_pixel(); }) film_per_pixel = renderer.jitters_film_per_pixel();
+  // Which of a pixel's samples its ids come from: OSPRay's path tracer keeps the nearest
+  // hit's, its other renderers the last sample's, hit or not.
+  bool ids_from_nearest = false;
+  if constexpr (requires { renderer.ids_from_nearest_sample(); }) ids_from_nearest = renderer.ids_from_nearest_sample();
 
   const bool first_hit_channels = fb.has(channel_depth) || fb.has(channel_id_primitive) ||
                                   fb.has(channel_id_object) || fb.has(channel_id_instance);
@@ -144,7 +149,6 @@ std::uint32_t render_frame(const Renderer& renderer, const CameraT& camera, Fram
       if (!fb.tile_converged(tile, settings.variance_threshold)) {
         const std::uint32_t tile_frames = fb.tile_frames(tile);
         const std::uint32_t first_sample = tile_frames * samples;
-        const bool needs_sequence = uses_lens || film_per_pixel;
         const int tile_x0 = (tile % fb.tiles_x()) * tile_size, tile_y0 = (tile / fb.tiles_x()) * tile_size;
         for (int y0 = tile_y0; y0 < std::min(tile_y0 + tile_size, height); y0 += S::height) {
           for (int x0 = tile_x0; x0 < std::min(tile_x0 + tile_size, width); x0 += S::width) {
@@ -167,7 +171,7 @@ std::uint32_t render_frame(const Renderer& renderer, const CameraT& camera, Fram
             const F pixel_y = F(static_cast<float>(y0) + 0.5f) + lane_dy;
             const F center_x = pixel_x * F(inv_width), center_y = pixel_y * F(inv_height);
             std::optional<CameraSequence<Arch>> sequence;
-            if (needs_sequence) sequence.emplace(pixels);
+            if (uses_lens) sequence.emplace(pixels);
             // Sample s of every lane, and its projected depth.
             F projected;
             const auto render_sample = [&](std::uint32_t s) {
@@ -176,10 +180,10 @@ std::uint32_t render_frame(const Renderer& renderer, const CameraT& camera, Fram
               if (uses_lens) cs = (*sequence)(sample_index);
               F offset_x, offset_y;
               if (film_per_pixel) {
-                const FilmSamples<F> film = sequence->film(sample_index);
                 alignas(64) float ox[W], oy[W];
                 for (int i = 0; i < W; ++i) {
-                  const FilterOffset o = filter.sample(simd::lane(film.film_u, i), simd::lane(film.film_v, i));
+                  const auto [u, v] = path_film_point(static_cast<std::uint32_t>(pixel[i]), sample_index);
+                  const FilterOffset o = filter.sample(u, v);
                   ox[i] = o.x, oy[i] = o.y;
                 }
                 offset_x = simd::load<Arch>(ox), offset_y = simd::load<Arch>(oy);
@@ -209,9 +213,10 @@ std::uint32_t render_frame(const Renderer& renderer, const CameraT& camera, Fram
               const M nearer = one.t < frame.t;
               frame.t = simd::select(nearer, one.t, frame.t);
               frame_projected = simd::select(nearer, projected, frame_projected);
-              frame.prim_id = simd::select(nearer, one.prim_id, frame.prim_id);
-              frame.geom_id = simd::select(nearer, one.geom_id, frame.geom_id);
-              frame.inst_id = simd::select(nearer, one.inst_id, frame.inst_id);
+              const M takes_ids = ids_from_nearest ? nearer : M(true);
+              frame.prim_id = simd::select(takes_ids, one.prim_id, frame.prim_id);
+              frame.geom_id = simd::select(takes_ids, one.geom_id, frame.geom_id);
+              frame.inst_id = simd::select(takes_ids, one.inst_id, frame.inst_id);
             }
             if (samples > 1) {
               frame.color = frame.color * inv_samples;

@@ -12,8 +12,7 @@ namespace detail {
 /// Kronecker sequences in 32-bit fixed point: start + i * step wraps modulo 1 for free,
 /// and a step rounded to 2^-32 keeps the sequence's structure over any practical count.
 constexpr std::uint32_t fixed_step(double step) { return static_cast<std::uint32_t>(step * 4294967296.0 + 0.5); }
-inline constexpr std::uint32_t r4_1 = fixed_step(0.8566748838545029);    // 1 / g, g the root of x^5 = x + 1
-inline constexpr std::uint32_t r4_2 = fixed_step(0.7338918566271259);    // 1 / g^2
+// g is the root of x^5 = x + 1
 inline constexpr std::uint32_t r4_3 = fixed_step(0.6287067210378086);    // 1 / g^3
 inline constexpr std::uint32_t r4_4 = fixed_step(0.5385972572236101);    // 1 / g^4
 inline constexpr std::uint32_t golden = fixed_step(0.6180339887498949);  // 1 / golden ratio
@@ -45,25 +44,19 @@ U mix32(U x) {
 
 /// Where on the lens a pixel sample passes (T = float for one, a packet for W), in
 /// [0,1)^2. (Where on the film is OSPRay's sample point, the same in every pixel for
-/// scivis and ao: pixel_sample_point in frame/pixel_filter.hpp; the path tracer's are the
-/// film_u, film_v of CameraSequence::film.)
+/// scivis and ao, path_film_point for the path tracer: both in frame/pixel_filter.hpp.)
 template <class T>
 struct CameraSamples {
   T lens_u, lens_v;
 };
 
-/// Where in a pixel a sample lies, in [0,1)^2, before the pixel filter maps it.
-template <class T>
-struct FilmSamples {
-  T film_u, film_v;
-};
 using CameraSample = CameraSamples<float>;
 
 /// The lens samples of one pixel per lane: the second pair of the 4D Kronecker sequence
 /// R4 (Roberts 2018, on the root of x^5 = x + 1), rotated by a per-pixel shift
 /// (Cranley-Patterson), so that neighbouring pixels do not share one lens pattern. Its
-/// steps are rationally independent of the film's Halton points, so depth of field
-/// averages the whole (film, lens) square, not a line of it.
+/// steps are rationally independent of the film's Halton and Sobol points, so depth of
+/// field averages the whole (film, lens) square, not a line of it.
 template <class Arch>
 class CameraSequence {
 public:
@@ -78,8 +71,8 @@ public:
     else
       p = xsimd::bitwise_cast<U>(pixel);
     // Independent hashes (not a chain of them), so that they run in parallel.
-    constexpr std::uint32_t salt[4] = {0x165667b1U, 0x9e3779b9U, 0x27d4eb2fU, 0x85ebca77U};
-    for (int k = 0; k < 4; ++k) shift_[k] = detail::mix32(p ^ U(salt[k]));
+    constexpr std::uint32_t salt[2] = {0x165667b1U, 0x9e3779b9U};
+    for (int k = 0; k < 2; ++k) shift_[k] = detail::mix32(p ^ U(salt[k]));
   }
 
   CameraSamples<F> operator()(std::uint32_t sample) const {
@@ -89,17 +82,8 @@ public:
     return s;
   }
 
-  /// The film position of sample `sample`: the first pair of R4, shifted per pixel as the
-  /// lens pair is, so that the four dimensions stay stratified together and neighbouring
-  /// pixels do not share one pattern (as OSPRay's path tracer draws them: aliasing becomes
-  /// noise that accumulation removes, instead of a moiré common to every pixel).
-  FilmSamples<F> film(std::uint32_t sample) const {
-    return {detail::fixed_to_unit<Arch>(U(sample * detail::r4_1) + shift_[2]),
-            detail::fixed_to_unit<Arch>(U(sample * detail::r4_2) + shift_[3])};
-  }
-
 private:
-  U shift_[4];
+  U shift_[2];
 };
 
 /// The shutter time sample in [0,1) of sample `sample` of each lane's pixel: the

@@ -100,6 +100,9 @@ public:
   /// Each pixel's film positions come from a sequence of its own (render_frame), as in
   /// OSPRay's path tracer; scivis and ao keep OSPRay's points, the same in every pixel.
   bool jitters_film_per_pixel() const { return true; }
+  /// A pixel's ids come from its nearest hit among the frame's samples (render_frame), as
+  /// OSPRay's path tracer keeps them; scivis and ao keep the last sample's.
+  bool ids_from_nearest_sample() const { return true; }
 
   PixelSample<Arch> render(const Ray<F>& camera_ray, const M& active, const SampleIndex<Arch>& index = {}) const {
     constexpr float inf = std::numeric_limits<float>::infinity();
