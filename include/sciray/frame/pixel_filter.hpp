@@ -180,7 +180,7 @@ inline std::array<float, 2> path_film_point(std::uint32_t pixel, std::uint32_t n
     return x >= 1.f ? x - 1.f : x;
   };
   const std::uint32_t index = n + 64;
-  return {rotated(sobol_first(index), 0), rotated(sobol_second(index), 1)};
+  return {rotated(reverse_bits(sobol_first_reversed(index)), 0), rotated(reverse_bits(sobol_second_reversed(index)), 1)};
 }
 
 /// Where sample `n` of a pixel lies in [0,1)^2, before the filter maps it to an offset:
