@@ -179,6 +179,25 @@ inline OSPGeometry new_floor_mesh() {
   return mesh;
 }
 
+/// Points an orthographic camera straight down at the floor's centre from y = 5, its
+/// image `height` world units tall (committed only by the caller, which may add more).
+inline void look_down_at_floor(OSPCamera camera, float height) {
+  ospSetVec3f(camera, "position", 0.f, 5.f, 0.f);
+  ospSetVec3f(camera, "direction", 0.f, -1.f, 0.f);
+  ospSetVec3f(camera, "up", 0.f, 0.f, 1.f);
+  ospSetFloat(camera, "height", height);
+}
+
+/// The mean RGB of a frame buffer's `pixels` pixels of RGBA32F colour.
+inline std::array<float, 3> mean_rgb(OSPFrameBuffer fb, int pixels) {
+  const auto* rgba = static_cast<const float*>(ospMapFrameBuffer(fb, OSP_FB_COLOR));
+  std::array<float, 3> mean{};
+  for (int p = 0; p < pixels; ++p)
+    for (int c = 0; c < 3; ++c) mean[c] += rgba[4 * p + c] / static_cast<float>(pixels);
+  ospUnmapFrameBuffer(rgba, fb);
+  return mean;
+}
+
 /// A committed sphere geometry with the given centres (x,y,z each) and one radius.
 inline OSPGeometry new_spheres(const std::vector<float>& centers, float radius) {
   OSPGeometry g = ospNewGeometry("sphere");

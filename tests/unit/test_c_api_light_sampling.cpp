@@ -51,10 +51,7 @@ struct LitFloor {
     ospCommit(group);
     instance = ospNewInstance(group);
     ospCommit(instance);
-    ospSetVec3f(camera, "position", 0.f, 5.f, 0.f);
-    ospSetVec3f(camera, "direction", 0.f, -1.f, 0.f);
-    ospSetVec3f(camera, "up", 0.f, 0.f, 1.f);
-    ospSetFloat(camera, "height", 0.01f);
+    sciray_test::look_down_at_floor(camera, 0.01f);
     const float shutter[2] = {0.f, 1.f};
     ospSetParam(camera, "shutter", OSP_BOX1F, shutter);
     ospCommit(camera);

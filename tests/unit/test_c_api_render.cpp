@@ -42,10 +42,7 @@ struct FloorScene {
     instance = ospNewInstance(group);
     ospCommit(instance);
     ospSetObjectAsData(world, "instance", OSP_INSTANCE, instance);
-    ospSetVec3f(camera, "position", 0.f, 5.f, 0.f);
-    ospSetVec3f(camera, "direction", 0.f, -1.f, 0.f);
-    ospSetVec3f(camera, "up", 0.f, 0.f, 1.f);
-    ospSetFloat(camera, "height", 0.2f);
+    sciray_test::look_down_at_floor(camera, 0.2f);
     ospCommit(camera);
   }
   ~FloorScene() {
@@ -64,11 +61,7 @@ struct FloorScene {
   std::array<float, 3> render(OSPRenderer renderer, int frames = 1) {
     OSPFrameBuffer fb = ospNewFrameBuffer(8, 8, OSP_FB_RGBA32F, OSP_FB_COLOR | OSP_FB_ACCUM);
     for (int f = 0; f < frames; ++f) ospRenderFrameBlocking(fb, renderer, camera, world);
-    const auto* rgba = static_cast<const float*>(ospMapFrameBuffer(fb, OSP_FB_COLOR));
-    std::array<float, 3> mean{};
-    for (int p = 0; p < 64; ++p)
-      for (int c = 0; c < 3; ++c) mean[c] += rgba[4 * p + c] / 64.f;
-    ospUnmapFrameBuffer(rgba, fb);
+    const std::array<float, 3> mean = sciray_test::mean_rgb(fb, 64);
     ospRelease(fb);
     return mean;
   }
