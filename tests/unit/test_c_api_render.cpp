@@ -448,6 +448,38 @@ TEST_CASE("scivis visibleLights: camera rays see a quad light's radiance, as OSP
   ospRelease(scivis);
 }
 
+TEST_CASE("scivis visibleLights: rays that meet nothing see the ambient light over the background, as OSPRay's",
+          "[c_api][renderers]") {
+  // Measured with OSPRay 3.1's runtime: a white background (alpha 0) under an ambient
+  // light of intensity 0.5 is 1.5 where camera rays miss, alpha still 0; a surface's
+  // pixels are unchanged. The Cornell box walls' edges in OSPRay's AmbientLight test
+  // mix that 1.5 in.
+  ApiFixture api;
+  FloorScene scene(nullptr);
+  ospSetVec3f(scene.camera, "direction", 0.f, 1.f, 0.f);  // away from the floor: every ray misses
+  ospCommit(scene.camera);
+  OSPLight ambient = ospNewLight("ambient");
+  ospSetFloat(ambient, "intensity", 0.5f);
+  ospCommit(ambient);
+  scene.set_lights({ambient});
+  OSPRenderer scivis = ospNewRenderer("scivis");
+  ospSetVec4f(scivis, "backgroundColor", 0.2f, 0.3f, 0.4f, 0.f);
+  ospCommit(scivis);
+  CHECK(scene.render(scivis)[0] == Approx(0.2f));
+  ospSetBool(scivis, "visibleLights", true);
+  ospCommit(scivis);
+  const auto seen = scene.render(scivis);
+  CHECK(seen[0] == Approx(0.7f));
+  CHECK(seen[1] == Approx(0.8f));
+  CHECK(seen[2] == Approx(0.9f));
+  ospSetBool(ambient, "visible", false);
+  ospCommit(ambient);
+  ospCommit(scene.world);
+  CHECK(scene.render(scivis)[0] == Approx(0.2f));
+  CHECK(api.messages.errors.empty());
+  ospRelease(scivis);
+}
+
 TEST_CASE("pathtracer backgroundRefraction: the background through transparency and through refraction",
           "[c_api][renderers]") {
   ApiFixture api;

@@ -121,9 +121,10 @@ public:
     const auto add_light = [&](const DirectLight& d) {
       const Light& l = d.kind();
       if (const auto* h = std::get_if<HdriLight>(&l); h && h->visible && !environment_) environment_ = d;
-      if (std::holds_alternative<AmbientLight>(l))
+      if (const auto* a = std::get_if<AmbientLight>(&l)) {
         ambient_ = ambient_ + emitted(l);  // the same wherever an instance places it
-      else
+        if (a->visible) visible_ambient_ = visible_ambient_ + emitted(l);
+      } else
         direct_lights_.push_back(d);
     };
     for (const Light& l : params_.lights) add_light({&l, nullptr});
@@ -236,14 +237,16 @@ private:
     }
   };
 
-  /// The radiance of the visible lights with size that `ray` meets before `t_end`, added
-  /// to `color` under `transmittance`.
+  /// The radiance of the visible lights with size that `ray` meets before `t_end`, and of
+  /// the visible ambient lights where it meets nothing (OSPRay's: an ambient light lies at
+  /// infinity), added to `color` under `transmittance`.
   void add_visible_lights(const Ray<F>& ray, const M& lanes, const F& t_end, const Vec3<F>& transmittance,
                           Vec3<F>& color) const {
     alignas(64) float rgb[3][W];
     bool any = false;
     for (int i = 0; i < W; ++i) {
       Vec3f sum{0.f, 0.f, 0.f};
+      if (simd::lane(lanes, i) && std::isinf(simd::lane(t_end, i))) sum = visible_ambient_;
       if (simd::lane(lanes, i)) {
         const Vec3f org{simd::lane(ray.org.x, i), simd::lane(ray.org.y, i), simd::lane(ray.org.z, i)};
         const Vec3f dir = normalize(Vec3f{simd::lane(ray.dir.x, i), simd::lane(ray.dir.y, i), simd::lane(ray.dir.z, i)});
@@ -592,6 +595,7 @@ private:
   bool any_transparent_ = false;
   bool needs_random_ = false;
   Vec3f ambient_{0.f, 0.f, 0.f};
+  Vec3f visible_ambient_{0.f, 0.f, 0.f};  // of the ambient lights whose `visible` is set
   std::vector<DirectLight> direct_lights_;
   DirectLight environment_;  ///< the first visible hdri light: the background
   float scene_size_ = 1.f;
