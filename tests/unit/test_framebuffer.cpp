@@ -697,3 +697,29 @@ TEST_CASE("render_until renders until the estimated error reaches the target", "
   CHECK_THROWS_WITH(render_until<A>(renderer, unit_square(), no_variance, 0.01f, 10),
                     Catch::Contains("no variance channel"));
 }
+
+TEST_CASE("OSPRay's error regions refine tiles above the threshold together, then split and retire", "[frame][variance]") {
+  // Four tiles in a row, threshold 1: one tile far above it.
+  ErrorRegions regions;
+  regions.reset(4, 1);
+  std::vector<float> errors{5.f, 0.1f, 0.1f, 0.1f};
+  // The frame's error is the mean of the tiles above the threshold.
+  CHECK(regions.refine(errors, 1.f) == 5.f);
+  // The one region holds a tile above: all its tiles are raised just above the threshold
+  // to be refined with it; its mean (1.33) is within 4 thresholds, so it splits in two.
+  for (float e : errors) CHECK(e > 1.f);
+  CHECK(errors[1] < 1.0001f);
+  errors = {5.f, 0.1f, 0.1f, 0.1f};
+  regions.refine(errors, 1.f);
+  // The left half is raised with its tile, then retired (two tiles left); the right half
+  // is done and retired as it is.
+  CHECK(errors[1] > 1.f);
+  CHECK(errors[2] == 0.1f);
+  CHECK(errors[3] == 0.1f);
+  errors = {5.f, 0.1f, 0.1f, 0.1f};
+  regions.refine(errors, 1.f);
+  CHECK(errors[1] == 0.1f);  // no region left: each tile stands alone
+  // Without tiles above the threshold the frame's error is the largest.
+  errors = {0.5f, 0.2f, 0.1f, 0.1f};
+  CHECK(regions.refine(errors, 1.f) == 0.5f);
+}

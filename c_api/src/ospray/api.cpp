@@ -461,7 +461,7 @@ float ospGetVariance(OSPFrameBuffer fb) {
   return guarded("ospGetVariance", [&] {
     auto& frame = live_as<FrameBufferObject>(fb, OSP_FRAMEBUFFER, "frame buffer");
     std::lock_guard lock(frame.mutex());
-    return frame.frame().variance();  // the mean of the tiles' estimated errors
+    return frame.frame().variance();  // OSPRay's measure (ErrorEstimate::ospray)
   }, std::numeric_limits<float>::infinity());
 }
 

@@ -45,7 +45,8 @@ void ImageOperationObject::on_commit() {
 }
 
 FrameBufferObject::FrameBufferObject(int width, int height, OSPFrameBufferFormat format, std::uint32_t channels)
-    : Object(OSP_FRAMEBUFFER, ""), frame_(width, height, color_format(format), engine_channels(channels)),
+    : Object(OSP_FRAMEBUFFER, ""),
+      frame_(width, height, color_format(format), engine_channels(channels), sciray::ErrorEstimate::ospray),
       channels_(channels) {}
 
 void FrameBufferObject::on_commit() {

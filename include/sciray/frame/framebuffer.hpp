@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "sciray/error.hpp"
+#include "sciray/frame/error_regions.hpp"
 #include "sciray/frame/image_ops.hpp"
 #include "sciray/math/color.hpp"
 #include "sciray/math/vec.hpp"
@@ -44,8 +45,26 @@ enum Channel : unsigned {
   channel_id_instance = 1u << 8,   ///< instance id of the first hit, first frame
 };
 
+/// How the variance channel estimates the error left in the accumulated colour.
+enum class ErrorEstimate {
+  /// sciray's: the expected absolute luminance error of a tile's average (see variance()).
+  luminance,
+  /// OSPRay 3.1's, which its `varianceThreshold` and ospGetVariance are in, over
+  /// OSPRay's 64-pixel tiles (ospray_tile_size): after every second frame of such a tile,
+  /// 64 times the mean over its pixels of the RGBA difference between the mean of all
+  /// frames and the mean of the odd ones (frame 1, 3, ...), divided by
+  /// sqrt(r + g + b + 1 - alpha) of the mean; tiles refined in regions (ErrorRegions),
+  /// the frame's error what ErrorRegions::refine reports. Measured with OSPRay 3.1's
+  /// runtime: a diagonal edge in a 64-pixel image after two frames gives 0.70711, as this
+  /// formula over one 64-pixel tile does (over 16-pixel tiles it would be 2.26).
+  ospray,
+};
+
 /// Pixels of one tile side: the unit of parallel rendering and of adaptive accumulation.
 inline constexpr int tile_size = 16;
+/// Pixels of one side of OSPRay's tiles, over which ErrorEstimate::ospray is taken.
+inline constexpr int ospray_tile_size = 64;
+inline constexpr int tiles_per_ospray_tile = ospray_tile_size / tile_size;
 
 /// What an id channel holds where nothing was hit.
 inline constexpr std::uint32_t no_id = 0xFFFFFFFFu;
@@ -68,7 +87,8 @@ inline const std::array<std::uint8_t, 65536>& encoding_table(ColorFormat format)
 class FrameBuffer {
 public:
   FrameBuffer(int width, int height, ColorFormat format = ColorFormat::srgba,
-              unsigned channels = channel_color | channel_depth | channel_accum)
+              unsigned channels = channel_color | channel_depth | channel_accum,
+              ErrorEstimate estimate = ErrorEstimate::luminance)
       : width_(width), height_(height), format_(format), channels_(channels) {
     // Pixels are addressed with 32-bit lane indices.
     if (width <= 0 || height <= 0 ||
@@ -89,7 +109,19 @@ public:
     tile_frames_.assign(tiles, 0);
     tile_error_.assign(tiles, std::numeric_limits<float>::infinity());
     if (channels_ & channel_accum) accum_.assign(4 * n, 0.f);
-    if (channels_ & channel_variance) odd_luminance_.assign(n, 0.f);
+    if (channels_ & channel_variance) {
+      if (estimate == ErrorEstimate::ospray) {
+        odd_rgba_.assign(4 * n, 0.f);
+        blocks_x_ = (width + ospray_tile_size - 1) / ospray_tile_size;
+        const int blocks_y = (height + ospray_tile_size - 1) / ospray_tile_size;
+        const auto blocks = static_cast<std::size_t>(blocks_x_) * static_cast<std::size_t>(blocks_y);
+        block_error_.assign(blocks, std::numeric_limits<float>::infinity());
+        block_frames_.assign(blocks, 0);
+        regions_.reset(blocks_x_, blocks_y);
+      } else {
+        odd_luminance_.assign(n, 0.f);
+      }
+    }
     if (format == ColorFormat::rgba8 || format == ColorFormat::srgba || format == ColorFormat::gamma22)
       color8_.assign(4 * n, 0);
     if (format == ColorFormat::rgba32f) color32_.assign(4 * n, 0.f);
@@ -138,6 +170,12 @@ public:
     frames_ = 0;
     std::fill(tile_frames_.begin(), tile_frames_.end(), 0u);
     std::fill(tile_error_.begin(), tile_error_.end(), std::numeric_limits<float>::infinity());
+    frame_error_ = std::numeric_limits<float>::infinity();
+    if (!odd_rgba_.empty()) {
+      std::fill(block_error_.begin(), block_error_.end(), std::numeric_limits<float>::infinity());
+      std::fill(block_frames_.begin(), block_frames_.end(), 0u);
+      regions_.reset(blocks_x_, static_cast<int>(block_error_.size()) / blocks_x_);
+    }
   }
 
   /// Called once every packet of a tile's frame is written: counts the frame for the
@@ -146,11 +184,15 @@ public:
   void finish_tile(int tile) {
     if (!has(channel_accum)) return;
     const std::uint32_t frames = ++tile_frames_[static_cast<std::size_t>(tile)];
-    if (has(channel_variance) && frames >= 2)
+    if (!odd_luminance_.empty() && frames >= 2)
       tile_error_[static_cast<std::size_t>(tile)] = estimate_tile_error(tile, frames);
   }
-  /// Called once the frame is done (after finish_tile of every tile it rendered).
-  void finish_frame() { frames_ = has(channel_accum) ? frames_ + 1 : 1; }
+  /// Called once the frame is done (after finish_tile of every tile it rendered), with
+  /// the frame's variance threshold (0 without adaptive rendering).
+  void finish_frame(float variance_threshold = 0.f) {
+    frames_ = has(channel_accum) ? frames_ + 1 : 1;
+    if (!odd_rgba_.empty()) estimate_ospray_errors(variance_threshold);
+  }
 
   /// Stores a packet of the renderer's samples (averaged over the frame's samples per
   /// pixel) of the frame being rendered; lane i goes to pixel `pixel[i]`, or nowhere if
@@ -207,7 +249,9 @@ public:
   /// odd frames differ at every edge however many there are; each Thue-Morse half is
   /// stratified on its own (their difference falls as 1/frames, as the error does). Infinite while any
   /// tile has fewer than two frames, or without a variance channel (as OSPRay reports).
+  /// With ErrorEstimate::ospray, the frame's error as OSPRay's ospGetVariance reports it.
   float variance() const {
+    if (!odd_rgba_.empty()) return frame_error_;
     if (odd_luminance_.empty() || frames_ < 2) return std::numeric_limits<float>::infinity();
     double sum = 0.0;
     for (int tile = 0; tile < tile_count(); ++tile) {
@@ -243,7 +287,7 @@ public:
   std::size_t memory_bytes() const {
     return color8_.size() +
            sizeof(float) * (color32_.size() + depth_.size() + depth_projected_.size() + accum_.size() +
-                            odd_luminance_.size() + normal_.size() + albedo_.size()) +
+                            odd_luminance_.size() + odd_rgba_.size() + normal_.size() + albedo_.size()) +
            sizeof(std::uint32_t) * (primitive_id_.size() + object_id_.size() + instance_id_.size());
   }
 
@@ -282,6 +326,8 @@ private:
           if (before[i] == 0) odd = 0.f;
           if (in_second_half(before[i])) odd += luminance(rgba[0][i], rgba[1][i], rgba[2][i]);
         }
+        if (!odd_rgba_.empty() && before[i] % 2 == 1)
+          for (int c = 0; c < 4; ++c) odd_rgba_[4 * p + c] = (before[i] == 1 ? 0.f : odd_rgba_[4 * p + c]) + rgba[c][i];
         float* acc = &accum_[4 * p];
         const float inv = 1.f / static_cast<float>(before[i] + 1);
         for (int c = 0; c < 4; ++c) {
@@ -325,6 +371,44 @@ private:
         sum += std::abs((all - odd) / even_frames - odd / odd_frames);
       }
     return static_cast<float>(scale * sum / static_cast<double>(tile_pixels(tile)));
+  }
+
+  /// ErrorEstimate::ospray after a frame: the OSPRay tiles that have just reached an even
+  /// number of frames get a new error (the others keep theirs, so it falls steadily),
+  /// the regions are refined, and each of sciray's tiles takes its OSPRay tile's error.
+  void estimate_ospray_errors(float threshold) {
+    for (std::size_t block = 0; block < block_error_.size(); ++block) {
+      const int bx = static_cast<int>(block) % blocks_x_, by = static_cast<int>(block) / blocks_x_;
+      // Its tiles are rendered together (they share the error), so its first counts for all.
+      const std::uint32_t frames = tile_frames((by * tiles_per_ospray_tile) * tiles_x_ + bx * tiles_per_ospray_tile);
+      if (frames == block_frames_[block]) continue;
+      block_frames_[block] = frames;
+      if (frames >= 2 && frames % 2 == 0) block_error_[block] = estimate_relative_error(bx, by, frames);
+    }
+    frame_error_ = regions_.refine(block_error_, threshold);
+    for (int tile = 0; tile < tile_count(); ++tile) {
+      const int bx = (tile % tiles_x_) / tiles_per_ospray_tile, by = (tile / tiles_x_) / tiles_per_ospray_tile;
+      tile_error_[static_cast<std::size_t>(tile)] = block_error_[static_cast<std::size_t>(by * blocks_x_ + bx)];
+    }
+  }
+  /// ErrorEstimate::ospray's error of OSPRay tile (bx, by) after `frames` (even) frames.
+  float estimate_relative_error(int bx, int by, std::uint32_t frames) const {
+    const float all_scale = 1.f / static_cast<float>(frames), odd_scale = 2.f / static_cast<float>(frames);
+    const int x0 = bx * ospray_tile_size, y0 = by * ospray_tile_size;
+    const int x1 = std::min(x0 + ospray_tile_size, width_), y1 = std::min(y0 + ospray_tile_size, height_);
+    double sum = 0.0;
+    for (int y = y0; y < y1; ++y)
+      for (int x = x0; x < x1; ++x) {
+        const auto p = static_cast<std::size_t>(y) * static_cast<std::size_t>(width_) + static_cast<std::size_t>(x);
+        float mean[4], difference = 0.f;
+        for (int c = 0; c < 4; ++c) {
+          mean[c] = accum_[4 * p + c] * all_scale;
+          difference += std::abs(mean[c] - odd_rgba_[4 * p + c] * odd_scale);
+        }
+        const float brightness = mean[0] + mean[1] + mean[2] + 1.f - mean[3];  // bright alpha weighs more
+        if (brightness > 0.f) sum += difference / std::sqrt(brightness);
+      }
+    return static_cast<float>(64.0 * sum / (static_cast<double>(x1 - x0) * static_cast<double>(y1 - y0)));
   }
 
   /// Writes the ids of the lanes whose tile has no frames yet (see primitive_id()).
@@ -421,6 +505,14 @@ private:
 
   std::vector<float> accum_;
   std::vector<float> odd_luminance_;  // sum over the second half's frames (in_second_half), for the estimate
+  // ErrorEstimate::ospray: sums over the odd frames; per OSPRay tile, its error and the
+  // frames it was taken at; the refinement's regions.
+  std::vector<float> odd_rgba_;
+  int blocks_x_ = 0;
+  std::vector<float> block_error_;
+  std::vector<std::uint32_t> block_frames_;
+  ErrorRegions regions_;
+  float frame_error_ = std::numeric_limits<float>::infinity();
   std::vector<std::uint8_t> color8_;
   std::vector<float> color32_;
   std::vector<float> depth_;

@@ -236,7 +236,7 @@ std::uint32_t render_frame(const Renderer& renderer, const CameraT& camera, Fram
   if (control && control->cancel.load())
     fb.reset_accumulation();
   else if (tiles_rendered.load() > 0)  // a frame that found every tile converged adds nothing
-    fb.finish_frame();
+    fb.finish_frame(settings.variance_threshold);
   return tiles_rendered.load();
 }
 
