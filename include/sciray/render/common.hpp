@@ -281,8 +281,9 @@ void record_first_hit(const WorldT& world, const accel::Hit<Arch>& hit, PixelSam
     });
 }
 
-/// Where each lane's camera ray enters the first volume that contributes to its pixel
-/// (at depth 0: in front of any surface), and which placed volume that is; -1 where none.
+/// Where each lane's camera ray meets the first volume sample OSPRay's scivis makes its
+/// hit (VolumeSample::hit_t; at depth 0: in front of any surface), and which placed
+/// volume that is; -1 where none.
 template <class Arch>
 struct VolumeEntry {
   simd::Float<Arch> t = simd::Float<Arch>(std::numeric_limits<float>::infinity());
@@ -290,7 +291,7 @@ struct VolumeEntry {
 };
 
 /// Makes the volumes that `entry` found the first hit of their lanes in `out`, as OSPRay
-/// records them: t where the ray enters the volume, primitive 0, the volume's ids.
+/// records them: t of that sample, primitive 0, the volume's ids.
 template <class Arch, class WorldT>
 void record_volume_entry(const WorldT& world, const VolumeEntry<Arch>& entry, PixelSample<Arch>& out) {
   using I = simd::Int<Arch>;
@@ -356,6 +357,7 @@ VolumeIntegration volume_integration(const WorldT& world, const RendererParams& 
   if constexpr (requires { world.clipping(); }) how.clipping = world.clipping();
   how.preintegration = params.volume_preintegration;
   how.adaptive_sampling = params.volume_adaptive_sampling;
+  how.hit_opacity = params.min_contribution;
   return how;
 }
 
@@ -393,8 +395,8 @@ void composite_in_depth_order(const std::vector<AlongT>& along, const std::vecto
 /// along any lane, each is integrated on its own and every lane composites them sorted by
 /// where it enters them; where they overlap, they are marched together in slabs one step
 /// of the finest long, each volume over the slab in turn, so that their samples
-/// interleave in depth as OSPRay's do. `entry`, if given, gets the nearest volume with
-/// some opacity along each lane.
+/// interleave in depth as OSPRay's do. `entry`, if given, gets the nearest volume hit in
+/// front of `t_end` along each lane.
 template <class Arch, class WorldT, class Shade = std::nullptr_t>
 void composite_volumes(const WorldT& world, const VolumeIntegration& how, const Ray<simd::Float<Arch>>& ray,
                        const simd::Mask<Arch>& active, const simd::Float<Arch>& t_end,
@@ -416,8 +418,8 @@ void composite_volumes(const WorldT& world, const VolumeIntegration& how, const 
         v = model.template integrate<Arch>(object_ray, end, how, shade);
       });
       if (entry) {
-        const Ml nearer = lanes & (v.alpha > Fl(0.f)) & (a.enter < entry->t);
-        entry->t = simd::select(nearer, a.enter, entry->t);
+        const Ml nearer = lanes & (v.hit_t < simd::min(entry->t, t_end));
+        entry->t = simd::select(nearer, v.hit_t, entry->t);
         entry->volume = simd::select(nearer, simd::Int<Arch>(static_cast<std::int32_t>(a.volume)), entry->volume);
       }
       return v;

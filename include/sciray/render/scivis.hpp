@@ -165,8 +165,8 @@ public:
     for (int depth = 0; simd::any(live); ++depth) {
       const auto hit = accel::intersect<Arch>(world_->scene(), ray, live, depth == 0, world_->hit_filter());
       const F t_end = simd::select(hit.hit, hit.t, inf);
-      // scivis's camera rays make the volume they enter first their first hit (depth and
-      // ids), in front of the surface; OSPRay's ao gives volumes none.
+      // scivis's camera rays make the first visible volume sample their first hit (depth
+      // and ids), in front of the surface; OSPRay's ao gives volumes none.
       VolumeEntry<Arch> entry;
       if constexpr (is_ao) {
         composite_volumes<Arch>(*world_, camera_volumes_, ray, live, t_end, color,

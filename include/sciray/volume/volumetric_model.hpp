@@ -45,11 +45,15 @@
 
 namespace sciray {
 
-/// What one packet's march through a volume produced (premultiplied colour).
+/// What one packet's march through a volume produced (premultiplied colour), and where
+/// it took its first visible sample: the volume's hit for the depth and id channels.
 template <class Arch>
 struct VolumeSample {
   Vec3<simd::Float<Arch>> color;
   simd::Float<Arch> alpha;
+  /// t of the first sample whose step absorbs more than VolumeIntegration::hit_opacity
+  /// and which lies inside the volume's box (infinity where none).
+  simd::Float<Arch> hit_t = simd::Float<Arch>(std::numeric_limits<float>::infinity());
 };
 
 /// How a renderer asks a volume to be integrated.
@@ -64,6 +68,10 @@ struct VolumeIntegration {
   /// Step length from the densest extinction the macrocell can produce, so that a step
   /// absorbs about the same at any density: finer steps in dense matter, coarser in thin.
   bool adaptive_sampling = false;
+  /// The opacity one step must exceed to make its sample the volume's hit (OSPRay's
+  /// `minContribution`, measured with its runtime: its scivis records a volume in the
+  /// depth and id channels at the first such sample).
+  float hit_opacity = 0.001f;
 };
 
 /// The optical depth an adaptive step aims at, at one sample a cell (halved at two, ...).
@@ -141,7 +149,8 @@ public:
     const Ray<F>& ray = placed.ray;
     VolumeSample<Arch> out{Vec3<F>(Vec3f{0.f, 0.f, 0.f}), F(0.f)};
     const Vec3<F> inv{F(1.f) / ray.dir.x, F(1.f) / ray.dir.y, F(1.f) / ray.dir.z};
-    const auto [enter, leave] = span<Arch>(ray, inv, t_end);
+    const auto [enter, box_exit] = span<Arch>(ray, inv);
+    const F leave = simd::min(box_exit, t_end);
     auto live = placed.active & (enter < leave);
     if (!simd::any(live)) return out;
 
@@ -151,6 +160,18 @@ public:
     // sits at its middle (the midpoint rule, exact for a linearly varying extinction).
     F t = enter;
     const F neg_density(-density_scale_);
+    // The volume's hit for the depth and id channels, as OSPRay's scivis finds it: its
+    // first sample that absorbs more than `hit_opacity` over one of OSPRay's steps (Open
+    // VKL's: a cell along the axis the ray crosses fastest). OSPRay samples at
+    // start + (k + jitter)·step inside the box only, so a crossing shorter than a step is
+    // seen with probability length/step; at the mean jitter, where there is half a step
+    // of the box left.
+    const Vec3f& spacing = volume_->grid().spacing;
+    const F ospray_step = simd::min(simd::min(F(spacing.x) * simd::abs(inv.x), F(spacing.y) * simd::abs(inv.y)),
+                                    F(spacing.z) * simd::abs(inv.z)) *
+                          F(1.f / how.sampling_rate);
+    const F half_ospray_step = F(0.5f) * ospray_step;
+    const F visible_sigma = F(-std::log1p(-how.hit_opacity)) / (F(density_scale_) * ospray_step);
     F previous_end(0.f);
     auto have_previous = simd::Mask<Arch>(false);
     // Macrocells are cut in voxel coordinates (voxel i at i), which for cell-centred data
@@ -212,6 +233,8 @@ public:
           color = tf_.template color<Arch>(value);
         }
         const F alpha = F(1.f) - exp(sigma * neg_density * (step_end - t));
+        const auto visible = sampled & (sigma > visible_sigma) & (t + half_ospray_step <= box_exit);
+        out.hit_t = simd::select(visible, simd::min(out.hit_t, (t + step_end) * F(0.5f)), out.hit_t);
         if constexpr (!std::is_null_pointer_v<Shade>)
           if (gradient_shading_scale_ > 0.f)
             color = gradient_shaded<Arch>(placed, p, (t + step_end) * F(0.5f), color, sampled, shade);
@@ -318,17 +341,16 @@ private:
     return {x, y, z, simd::gather<Arch>(opacity_.data(), index)};
   }
 
-  /// Where each ray enters and leaves the volume's box, within [tnear, min(t_end, tfar)].
+  /// Where each ray enters and leaves the volume's box, within [tnear, tfar].
   template <class Arch>
   std::pair<simd::Float<Arch>, simd::Float<Arch>> span(const Ray<simd::Float<Arch>>& ray,
-                                                       const Vec3<simd::Float<Arch>>& inv,
-                                                       const simd::Float<Arch>& t_end) const {
+                                                       const Vec3<simd::Float<Arch>>& inv) const {
     using F = simd::Float<Arch>;
     const Box3f box = bounds();
     const Vec3<F> t0 = (Vec3<F>(box.lower) - ray.org) * inv, t1 = (Vec3<F>(box.upper) - ray.org) * inv;
     const Vec3<F> near = min(t0, t1), far = max(t0, t1);
     return {simd::max(simd::max(simd::max(near.x, near.y), near.z), ray.tnear),
-            simd::min(simd::min(simd::min(far.x, far.y), far.z), simd::min(t_end, ray.tfar))};
+            simd::min(simd::min(simd::min(far.x, far.y), far.z), ray.tfar)};
   }
 
   /// Walks each active lane through the macrocells from where it enters the volume to
@@ -346,7 +368,8 @@ private:
     using I = simd::Int<Arch>;
     constexpr float inf = std::numeric_limits<float>::infinity();
     const Vec3<F> inv{F(1.f) / ray.dir.x, F(1.f) / ray.dir.y, F(1.f) / ray.dir.z};
-    auto [t, leave] = span<Arch>(ray, inv, t_end);
+    auto [t, box_exit] = span<Arch>(ray, inv);
+    const F leave = simd::min(box_exit, t_end);
     auto tracking = active & (t < leave);
     if (!(majorant_ > 0.f)) return;
     const auto& grid = volume_->grid();
