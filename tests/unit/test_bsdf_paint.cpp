@@ -1,5 +1,6 @@
 // OSPRay's velvet, metallicPaint, carPaint and plastic, principled's backlight, and the
-// energy compensation of Schlick microfacet lobes and rough glass: albedos against their
+// energy compensation of Schlick microfacet lobes, rough glass and rough dielectric layers
+// (coats, principled's specular layer): albedos against their
 // analytic values and OSPRay's (measured with its runtime), white furnaces, sample/eval
 // agreement, reciprocity, carPaint's flake statistics, parameter checks.
 #include <catch2/catch.hpp>
@@ -130,14 +131,56 @@ TEST_CASE("Paints match OSPRay 3.1's albedos", "[bsdf][paint]") {
       {"plastic default", PlasticMaterial{}, splat(0.9997f), splat(0.9986f)},
       {"plastic smooth", PlasticMaterial{{0.5f, 0.2f, 0.1f}, 1.4f, 0.f}, {0.5120f, 0.2215f, 0.1247f},
        {0.5340f, 0.2568f, 0.1644f}},
-      // A rough coat is not energy-compensated here (OSPRay's is): 2 % darker at 60 degrees.
       {"plastic roughness 0.5", PlasticMaterial{{0.5f, 0.2f, 0.1f}, 1.4f, 0.5f}, {0.5132f, 0.2212f, 0.1239f},
-       {0.5270f, 0.2435f, 0.1490f}, 0.03},
+       {0.5270f, 0.2435f, 0.1490f}},
   };
   for (const Case& c : cases) {
     INFO(c.what);
     check_albedo(c.material, 0.f, c.at_normal, c.tolerance, 40000, 1.f);
     check_albedo(c.material, 60.f, c.at_60, c.tolerance, 40000, 1.f);
+  }
+}
+
+TEST_CASE("Rough dielectric layers give back what their microfacets scatter more than once, as OSPRay 3.1's",
+          "[bsdf][paint]") {
+  // Values measured with OSPRay 3.1's runtime: a flat quad of the material under a white
+  // ambient light of radiance 1, the path tracer's mean pixel (1024 samples each) seen
+  // from the normal and at 60 degrees. Before this compensation the rough layers reflected
+  // and let through 1 to 4 % less at 60 degrees (25 % less at 80).
+  struct Case {
+    const char* what;
+    Material material;
+    float at_normal, at_60;
+  };
+  const auto principled = [](float base, float coat, float coat_roughness, float ior, float roughness,
+                             float specular = 1.f) {
+    PrincipledMaterial p;
+    p.base_color = splat(base), p.coat = coat, p.coat_roughness = coat_roughness, p.ior = ior;
+    p.roughness = roughness, p.specular = specular;
+    return p;
+  };
+  CarPaintMaterial paint = white_paint();
+  paint.coat_roughness = 0.5f, paint.roughness = 0.f, paint.flake_density = 0.f;
+  // The coat alone (OSPRay's measured over a base of 0.001, whose sampler drops the coat's
+  // share where the base is black; the base adds nothing to green).
+  const std::vector<Case> cases = {
+      {"principled rough coat alone", principled(0.f, 1.f, 0.5f, 1.f, 0.f), 0.0380f, 0.0685f},
+      {"principled coat of roughness 1 alone", principled(0.f, 1.f, 1.f, 1.f, 0.f), 0.0507f, 0.0535f},
+      {"principled rough specular layer of weight 0.5 alone", principled(0.f, 0.f, 0.f, 1.5f, 1.f, 0.5f), 0.0443f,
+       0.0417f},
+      // Principled's coat lies over a mix of its base's parts, never taken as purely diffuse.
+      {"principled smooth coat over white", principled(1.f, 1.f, 0.f, 1.f, 0.f), 0.9482f, 0.9680f},
+      {"principled rough coat over white", principled(1.f, 1.f, 0.5f, 1.f, 0.f), 0.9772f, 0.9907f},
+      {"principled rough specular layer over white (Oren-Nayar)", principled(1.f, 0.f, 0.f, 1.5f, 0.5f), 0.8789f,
+       0.9279f},
+      {"principled specular layer of roughness 1 over white", principled(1.f, 0.f, 0.f, 1.5f, 1.f), 0.7878f, 0.8721f},
+      {"carPaint rough coat over white", paint, 0.9999f, 0.9996f},
+      {"plastic roughness 1", PlasticMaterial{{1.f, 1.f, 1.f}, 1.4f, 1.f}, 1.0000f, 0.9998f},
+  };
+  for (const Case& c : cases) {
+    INFO(c.what);
+    check_albedo(c.material, 0.f, splat(c.at_normal), 0.005);
+    check_albedo(c.material, 60.f, splat(c.at_60), 0.005);
   }
 }
 

@@ -17,10 +17,9 @@
 // Layers (principled, and the paints of render/bsdf_paint.hpp) follow OSPRay's: see
 // render/bsdf_lobes.hpp. Light bouncing between a layer and anything but a diffuse
 // substrate is ignored. As OSPRay's, GGX lobes of Schlick Fresnel (alloy, principled's
-// metal, the paints' flakes) and rough glass get the energy of multiple scattering
-// between microfacets back; conductors of given eta and k do not (neither do OSPRay's),
-// nor do rough coats and principled's rough specular layer (OSPRay's do: they reflect a
-// little less at grazing angles here).
+// metal, the paints' flakes), rough glass, rough coats and principled's rough specular
+// layer get the energy of multiple scattering between microfacets back; conductors of
+// given eta and k do not (neither do OSPRay's).
 //
 // A mix (MixMaterial) is not one list of lobes but its two parts' BSDFs, each with its own
 // layers, weighted by 1 - factor and factor, as OSPRay's MultiBSDF: eval() sums them so
@@ -123,27 +122,31 @@ inline void build(Bsdf& b, const PrincipledMaterial& m, const ShadingPoint& sp) 
     under |= below_sheen;
   }
   if (m.coat > 0.f) {
-    b.coat = m.coat, b.coat_eta = m.coat_ior, b.coat_thickness = m.coat_thickness;
-    b.coat_color = clamp01(m.coat_color);
-    const Fresnel fresnel{Fresnel::Kind::dielectric, m.coat_ior, 1.f};
     const float coat_alpha = m.coat_roughness * m.coat_roughness;
+    const bool rough_coat = coat_alpha >= min_alpha;
+    b.coat = DielectricLayer(m.coat, m.coat_ior, rough_coat ? coat_alpha : 0.f, cos_o);
+    b.coat_thickness = m.coat_thickness, b.coat_color = clamp01(m.coat_color), b.coat_over_mix = true;
+    const Fresnel fresnel{Fresnel::Kind::dielectric, m.coat_ior, m.coat};
     if (reflects(fresnel))
-      b.add(coat_alpha >= min_alpha ? LobeKind::ggx_reflect : LobeKind::mirror, splat(opacity * m.coat),
-            b.outer(under) * opacity * m.coat * fresnel(cos_o).x, fresnel, coat_alpha, under);
+      b.add(rough_coat ? LobeKind::ggx_reflect : LobeKind::mirror, splat(opacity),
+            b.outer(under) * opacity * b.coat.reflected_o, fresnel, coat_alpha, under, 0, 0.f, b.coat.ms_scale);
     under |= below_coat;
   }
   const float outer = b.outer(under);
 
   if (dielectric > 0.f) {
-    b.specular = m.specular, b.specular_eta = m.ior;
+    b.specular = DielectricLayer(m.specular, m.ior, reflection == LobeKind::ggx_reflect ? alpha : 0.f, cos_o);
     const Fresnel specular{Fresnel::Kind::dielectric, m.ior, m.specular};
     const float transmission = m.transmission;
     // The interface reflects alike over the diffuse and over the transmissive part, except
-    // for a thin sheet, whose second face reflects too.
+    // for a thin sheet, whose second face reflects too. Only over the diffuse part is it
+    // OSPRay's layer, whose reflection gives back what its microfacets scatter more than
+    // once (rough glass has its dielectric_ms lobe).
     const float plain_reflection = m.thin ? 1.f - transmission : 1.f;
     if (reflects(specular))
       b.add(reflection, splat(opacity * dielectric * plain_reflection),
-            outer * opacity * dielectric * plain_reflection * specular(cos_o).x, specular, alpha, under, 0, anisotropy);
+            outer * opacity * dielectric * plain_reflection * b.specular.reflected_o, specular, alpha, under, 0,
+            anisotropy, b.specular.ms_scale * (1.f - transmission) / plain_reflection);
     // The diffuse part, rough as Oren–Nayar, of which a thin sheet transmits backlight/2 (as
     // OSPRay's).
     const Vec3f diffuse = base * (opacity * dielectric * (1.f - transmission) * m.diffuse);

@@ -94,11 +94,13 @@ inline void build(Bsdf& b, const VelvetMaterial& m, const ShadingPoint&) {
 /// smooth) over the lobes added after it with `below_coat`; absorbing towards `color` over
 /// `thickness`. The layers they lie under.
 inline unsigned add_coat(Bsdf& b, float coat, float ior, const Vec3f& color, float thickness, float roughness = 0.f) {
-  b.coat = coat, b.coat_eta = ior, b.coat_color = color, b.coat_thickness = thickness;
-  const Fresnel fresnel{Fresnel::Kind::dielectric, ior, 1.f};
   const bool smooth = roughness < paint_epsilon;
-  b.add(smooth ? LobeKind::mirror : LobeKind::ggx_reflect, splat(coat), coat * fresnel(b.wo().z).x, fresnel,
-        smooth ? 0.f : paint_alpha(roughness));
+  const float alpha = smooth ? 0.f : paint_alpha(roughness);
+  b.coat = DielectricLayer(coat, ior, alpha, b.wo().z);
+  b.coat_color = color, b.coat_thickness = thickness;
+  const Fresnel fresnel{Fresnel::Kind::dielectric, ior, coat};
+  b.add(smooth ? LobeKind::mirror : LobeKind::ggx_reflect, splat(1.f), b.coat.reflected_o, fresnel, alpha, 0u, 0, 0.f,
+        b.coat.ms_scale);
   return below_coat;
 }
 

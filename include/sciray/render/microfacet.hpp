@@ -298,7 +298,7 @@ inline float ggx_average_albedo(float alpha) {
 /// Directional albedo E(θo) of a rough dielectric interface of relative index eta =
 /// n(far side) / n(near side) in [1/3, 3] (GGX reflection plus refraction, single
 /// scattering, refracted radiance not scaled by 1/eta² as sciray's refraction), the part
-/// of it reflected, and its cosine-weighted average: tabulated on first use over ln(eta),
+/// of it reflected, and the cosine-weighted averages of both: tabulated on first use over ln(eta),
 /// √alpha and cbrt(cos θo), each entry the mean of F G2/G1 (reflected) plus (1 - F) G2/G1
 /// (refracted) over a stratified grid of visible normals.
 struct GgxDielectricAlbedoTable {
@@ -306,7 +306,7 @@ struct GgxDielectricAlbedoTable {
   static constexpr float log_max_eta = 1.0986123f;  // ln 3: OSPRay clamps eta to [1/3, 3] too
   static constexpr int slice = (cells + 1) * (cells + 1);
   std::array<float, (etas + 1) * slice> albedo{}, reflected{};
-  std::array<float, (etas + 1) * (cells + 1)> average{};
+  std::array<float, (etas + 1) * (cells + 1)> average{}, reflected_average{};
 
   static float eta_at(int k) { return std::exp(log_max_eta * (2.f * static_cast<float>(k) / etas - 1.f)); }
   GgxDielectricAlbedoTable() {
@@ -314,7 +314,7 @@ struct GgxDielectricAlbedoTable {
       const float eta = eta_at(k);
       for (int i = 0; i <= cells; ++i) {
         const float roughness = static_cast<float>(i) / cells, alpha = std::max(roughness * roughness, 1e-4f);
-        double weighted = 0.;
+        double weighted = 0., weighted_up = 0.;
         for (int j = 0; j <= cells; ++j) {
           const float s = static_cast<float>(j) / cells;
           const float c_o = std::max(s * s * s, min_cos);
@@ -334,8 +334,10 @@ struct GgxDielectricAlbedoTable {
           reflected[k * slice + i * (cells + 1) + j] = static_cast<float>(up / (strata * strata));
           const double simpson = j == 0 || j == cells ? 1. : (j % 2 ? 4. : 2.);
           weighted += simpson * e * 6. * s * s * s * s * s / (3. * cells);
+          weighted_up += simpson * (up / (strata * strata)) * 6. * s * s * s * s * s / (3. * cells);
         }
         average[k * (cells + 1) + i] = static_cast<float>(weighted);
+        reflected_average[k * (cells + 1) + i] = static_cast<float>(weighted_up);
       }
     }
   }
@@ -369,16 +371,25 @@ inline float ggx_dielectric_albedo(float cos_o, float eta, float alpha) {
 inline float ggx_dielectric_reflectance(float cos_o, float eta, float alpha) {
   return interpolate_dielectric(GgxDielectricAlbedoTable::get().reflected, cos_o, eta, alpha);
 }
-/// 2 ∫ E(μ) μ dμ of a rough dielectric interface.
-inline float ggx_dielectric_average_albedo(float eta, float alpha) {
-  const auto& t = GgxDielectricAlbedoTable::get();
+/// An entry of one of GgxDielectricAlbedoTable's averages, interpolated.
+inline float interpolate_dielectric_average(
+    const std::array<float, (GgxDielectricAlbedoTable::etas + 1) * (GgxDielectricAlbedoTable::cells + 1)>& table,
+    float eta, float alpha) {
   const auto [k, w] = GgxDielectricAlbedoTable::eta_cell(eta);
   constexpr int cells = GgxDielectricAlbedoTable::cells;
   const float x = std::clamp(std::sqrt(alpha), 0.f, 1.f) * cells;
   const int i = std::min(static_cast<int>(x), cells - 1);
   const float f = x - static_cast<float>(i);
-  const auto at = [&](int kk, int ii) { return t.average[kk * (cells + 1) + ii]; };
+  const auto at = [&](int kk, int ii) { return table[kk * (cells + 1) + ii]; };
   return (1.f - w) * ((1.f - f) * at(k, i) + f * at(k, i + 1)) + w * ((1.f - f) * at(k + 1, i) + f * at(k + 1, i + 1));
+}
+/// 2 ∫ E(μ) μ dμ of a rough dielectric interface.
+inline float ggx_dielectric_average_albedo(float eta, float alpha) {
+  return interpolate_dielectric_average(GgxDielectricAlbedoTable::get().average, eta, alpha);
+}
+/// 2 ∫ R(μ) μ dμ of the part R of E that a rough dielectric interface reflects.
+inline float ggx_dielectric_average_reflectance(float eta, float alpha) {
+  return interpolate_dielectric_average(GgxDielectricAlbedoTable::get().reflected_average, eta, alpha);
 }
 
 /// The energy a rough dielectric interface loses to multiple scattering between its
@@ -410,18 +421,34 @@ inline DielectricMultipleScattering dielectric_multiple_scattering(float cos_o, 
   return {std::clamp(1.f - x * (1.f - f_eta), 0.f, 1.f), ggx_dielectric_albedo(cos_o, eta, alpha)};
 }
 
-/// f·cos θi of the energy a GGX reflection lobe of average Fresnel `f_average` loses to
-/// multiple scattering between its microfacets, given back as a diffuse-like lobe (Kulla &
-/// Conty 2017, with Hill's average-Fresnel scale, as OSPRay's microfacet conductor):
-/// f_ms = F_avg² E_avg / (1 - F_avg (1 - E_avg)) · (1 - E(θo)) (1 - E(θi)) / (π (1 - E_avg)).
-/// With F = 1 the lobe and this term together reflect exactly what they receive.
-inline Vec3f ggx_multiple_scattering(const Vec3f& f_average, float cos_o, float cos_i, float alpha) {
+/// The shape of what a white GGX lobe loses to multiple scattering between its microfacets,
+/// given back as a diffuse-like lobe (Kulla & Conty 2017): (1 - E(θo)) (1 - E(θi)) cos θi /
+/// (π (1 - E_avg)), which integrates over wi to 1 - E(θo); 0 where the lobe loses nothing.
+inline float ggx_lost_energy(float cos_o, float cos_i, float alpha) {
   const float e_average = ggx_average_albedo(alpha);
-  if (!(e_average < 1.f - 1e-4f) || !(max_component(f_average) > 0.f)) return {0.f, 0.f, 0.f};
-  const float shape = (1.f - ggx_albedo(cos_o, alpha)) * (1.f - ggx_albedo(cos_i, alpha)) * cos_i /
-                      (pi * (1.f - e_average));
+  if (!(e_average < 1.f - 1e-4f)) return 0.f;
+  const float shape = (1.f - ggx_albedo(cos_o, alpha)) * (1.f - ggx_albedo(cos_i, alpha)) * cos_i / (pi * (1.f - e_average));
+  return std::max(shape, 0.f);
+}
+
+/// f·cos θi of the energy a GGX reflection lobe of average Fresnel `f_average` loses to
+/// multiple scattering between its microfacets (Kulla & Conty 2017, with Hill's
+/// average-Fresnel scale, as OSPRay's microfacet conductor): F_avg² E_avg / (1 - F_avg (1 -
+/// E_avg)) times ggx_lost_energy. With F = 1 the lobe and this term together reflect exactly
+/// what they receive.
+inline Vec3f ggx_multiple_scattering(const Vec3f& f_average, float cos_o, float cos_i, float alpha) {
+  if (!(max_component(f_average) > 0.f)) return {0.f, 0.f, 0.f};
+  const float e_average = ggx_average_albedo(alpha);
   const auto scale = [&](float f) { return f * f * e_average / (1.f - f * (1.f - e_average)); };
-  return Vec3f{scale(f_average.x), scale(f_average.y), scale(f_average.z)} * std::max(shape, 0.f);
+  return Vec3f{scale(f_average.x), scale(f_average.y), scale(f_average.z)} * ggx_lost_energy(cos_o, cos_i, alpha);
+}
+
+/// The share of ggx_lost_energy that a rough dielectric layer's reflection gives back, from
+/// its average Fresnel: F_avg (1 - E_avg) / (1 - F_avg E_avg) (OSPRay's microfacet
+/// dielectric layer, after Kulla & Conty 2017).
+inline float layer_multiple_scattering_scale(float f_average, float alpha) {
+  const float e_average = ggx_average_albedo(alpha);
+  return f_average * (1.f - e_average) / (1.f - f_average * e_average);
 }
 
 // ---- Charlie sheen (Conty Estevez & Kulla 2017) ----------------------------------------------
