@@ -547,3 +547,65 @@ TEST_CASE("a backplate with alpha sets the background's alpha and is clamped at 
   ospRelease(plate);
   CHECK(api.messages.errors == std::vector<std::string>{});
 }
+
+TEST_CASE("pathtracer: a glass cube absorbs inside it whichever way its mesh is wound, as OSPRay's media",
+          "[c_api][renderers]") {
+  // A unit glass cube (eta 1.5, half the light absorbed per unit length) seen face on
+  // under an ambient light of radiance 1. Every path ends in that light: the pixel is the
+  // front face's reflection F plus what crosses the cube, bouncing between its faces,
+  // (1 - F)^2 a / (1 - F a) with a = 0.5, F = 0.04: 0.5102. OSPRay 3.1 tracks the medium
+  // a path is in, not the side of the surface it meets, so a mesh wound inwards (its
+  // geometric normals pointing in, as OSPRay's test spheres) absorbs the same.
+  ApiFixture api;
+  const std::vector<float> corners{-.5f, -.5f, -.5f, .5f, -.5f, -.5f, .5f, .5f, -.5f, -.5f, .5f, -.5f,
+                                   -.5f, -.5f, .5f,  .5f, -.5f, .5f,  .5f, .5f, .5f,  -.5f, .5f, .5f};
+  std::vector<std::uint32_t> outward{0, 2, 1, 0, 3, 2, 4, 5, 6, 4, 6, 7, 0, 1, 5, 0, 5, 4,
+                                     3, 6, 2, 3, 7, 6, 0, 4, 7, 0, 7, 3, 1, 2, 6, 1, 6, 5};
+  std::vector<std::uint32_t> inward = outward;
+  for (std::size_t i = 0; i < inward.size(); i += 3) std::swap(inward[i + 1], inward[i + 2]);
+  const auto render = [&](std::vector<std::uint32_t>& triangles) {
+    OSPGeometry mesh = ospNewGeometry("mesh");
+    ospSetObject(mesh, "vertex.position", ospNewSharedData1D(corners.data(), OSP_VEC3F, 8));
+    ospSetObject(mesh, "index", ospNewSharedData1D(triangles.data(), OSP_VEC3UI, 12));
+    ospCommit(mesh);
+    OSPMaterial glass = ospNewMaterial("glass");
+    ospSetFloat(glass, "eta", 1.5f);
+    ospSetVec3f(glass, "attenuationColor", .5f, .5f, .5f);
+    ospSetFloat(glass, "attenuationDistance", 1.f);
+    ospCommit(glass);
+    OSPGeometricModel model = ospNewGeometricModel(mesh);
+    ospSetObjectAsData(model, "material", OSP_MATERIAL, glass);
+    ospCommit(model);
+    OSPGroup group = ospNewGroup();
+    ospSetObjectAsData(group, "geometry", OSP_GEOMETRIC_MODEL, model);
+    ospCommit(group);
+    OSPInstance instance = ospNewInstance(group);
+    ospCommit(instance);
+    OSPWorld world = ospNewWorld();
+    ospSetObjectAsData(world, "instance", OSP_INSTANCE, instance);
+    OSPLight ambient = ospNewLight("ambient");
+    ospCommit(ambient);
+    ospSetObjectAsData(world, "light", OSP_LIGHT, ambient);
+    ospCommit(world);
+    OSPCamera camera = ospNewCamera("orthographic");
+    ospSetVec3f(camera, "position", 0.f, 0.f, -5.f);
+    ospSetVec3f(camera, "direction", 0.f, 0.f, 1.f);
+    ospSetVec3f(camera, "up", 0.f, 1.f, 0.f);
+    ospSetFloat(camera, "height", .5f);
+    ospCommit(camera);
+    OSPRenderer pathtracer = ospNewRenderer("pathtracer");
+    ospSetVec4f(pathtracer, "backgroundColor", 0.f, 0.f, 0.f, 0.f);
+    ospCommit(pathtracer);
+    OSPFrameBuffer fb = ospNewFrameBuffer(8, 8, OSP_FB_RGBA32F, OSP_FB_COLOR | OSP_FB_ACCUM);
+    for (int f = 0; f < 128; ++f) ospRenderFrameBlocking(fb, pathtracer, camera, world);
+    const float red = sciray_test::mean_rgb(fb, 64)[0];
+    for (OSPObject o : std::initializer_list<OSPObject>{mesh, glass, model, group, instance, world, ambient, camera,
+                                                        pathtracer, fb})
+      ospRelease(o);
+    return red;
+  };
+  const float f = 0.04f, a = 0.5f;
+  CHECK(render(outward) == Approx(f + (1.f - f) * (1.f - f) * a / (1.f - f * a)).margin(0.02));
+  CHECK(render(inward) == Approx(f + (1.f - f) * (1.f - f) * a / (1.f - f * a)).margin(0.02));
+  CHECK(api.messages.errors.empty());
+}

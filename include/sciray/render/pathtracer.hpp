@@ -200,6 +200,9 @@ public:
         p.offset = detail::ray_offset(s.p, s.t, s.epsilon);
         p.material = &textured(material(s), s.uv, p.textured_material);
         const Material& m = *p.material;
+        // A refracting material's side is the path's, as OSPRay tracks media: it enters
+        // unless it is inside this material already, whichever way the surface is wound.
+        if (has_medium(m)) p.sp.entering = p.medium != s.material;
         if (const Vec3f e = emitted(m, p.sp, -p.dir); std::max({e.x, e.y, e.z}) > 0.f)
           add(p, p.throughput * e * emission_weight(p, hit, i, s.ng, simd::lane(camera_ray.time, i)), depth);
         if (depth == 0) {
@@ -255,7 +258,8 @@ public:
             p.previous_normal = p.sp.n;
             p.vertex = p.p;
           }
-          if (b->transmitted && has_medium(m)) p.medium = v.surface.front ? v.surface.material : no_material;
+          if (b->transmitted && has_medium(m))
+            p.medium = p.medium == v.surface.material ? no_material : v.surface.material;
           // A reflection leaves from wo's side even where the shading normal sent it below
           // the geometric surface: it meets the surface again (as OSPRay's, whose furnace holds).
           p.org = p.p + (b->transmitted ? -p.sp.ng : p.sp.ng) * p.offset;
