@@ -1,7 +1,8 @@
 // Path-tracer and scivis light sampling through the C API: lights of a group placed by a
 // moving instance (motion.transform) light each sample where the instance puts them at
 // the sample's time, and the path tracer's `lightSamples` picks lights at random without
-// changing what the image converges to. An invisible light is not seen along straight
+// changing what the image converges to. With shadows, scivis drops a light whose
+// contribution is below minContribution. An invisible light is not seen along straight
 // paths, also through thinGlass.
 #include <catch2/catch.hpp>
 
@@ -77,6 +78,27 @@ struct LitFloor {
     ospCommit(placed);
     owned.insert(owned.end(), {light, light_group, placed});
     set_instances({instance, placed});
+  }
+  /// `count` instances, each moved up by `height`, of one group holding a point light of
+  /// `intensity` W/sr at its origin (besides the floor's instance).
+  void add_point_light_instances(float intensity, float height, int count) {
+    OSPLight light = ospNewLight("sphere");
+    ospSetFloat(light, "intensity", intensity);
+    ospCommit(light);
+    OSPGroup light_group = ospNewGroup();
+    ospSetObjectAsData(light_group, "light", OSP_LIGHT, light);
+    ospCommit(light_group);
+    owned.insert(owned.end(), {light, light_group});
+    std::vector<OSPInstance> list{instance};
+    for (int i = 0; i < count; ++i) {
+      OSPInstance placed = ospNewInstance(light_group);
+      const Affine up = translate(0.f, height, 0.f);
+      ospSetParam(placed, "transform", OSP_AFFINE3F, up.data());
+      ospCommit(placed);
+      owned.push_back(placed);
+      list.push_back(placed);
+    }
+    set_instances(list);
   }
   void set_instances(std::vector<OSPInstance> list) {
     OSPData data = ospNewSharedData(list.data(), OSP_INSTANCE, list.size());
@@ -159,6 +181,39 @@ TEST_CASE("C API: pathtracer lightSamples picks lights at random and converges t
   // No light samples: point lights are found by nothing.
   CHECK(render_with(0, 1) == 0.f);
   ospRelease(second);
+  CHECK(api.messages.errors == std::vector<std::string>{});
+}
+
+TEST_CASE("scivis: with shadows, a light adds nothing where its contribution is not above minContribution, as "
+          "OSPRay's",
+          "[c_api][renderers][lights]") {
+  ApiFixture api;
+  LitFloor scene;
+  // One unit above the floor: a world's point light of pi 0.05 (E / pi = 0.05 at the
+  // origin) and 40 instances of a group's light of pi 0.0008 (0.0008 each, under the
+  // default minContribution 0.001). OSPRay 3.1's runtime shows 0.05 with shadows, 0.082
+  // without them or with minContribution 0 (measured with this scene).
+  scene.add_point_light_instances(0.0008f * pi, 1.f, 40);
+  OSPLight bright = ospNewLight("sphere");
+  ospSetVec3f(bright, "position", 0.f, 1.f, 0.f);
+  ospSetFloat(bright, "intensity", 0.05f * pi);
+  ospCommit(bright);
+  ospSetObjectAsData(scene.world, "light", OSP_LIGHT, bright);
+  ospCommit(scene.world);
+  const auto render_with = [&](bool shadows, float min_contribution) {
+    OSPRenderer renderer = ospNewRenderer("scivis");
+    ospSetBool(renderer, "shadows", shadows);
+    ospSetFloat(renderer, "minContribution", min_contribution);
+    ospSetVec4f(renderer, "backgroundColor", 0.f, 0.f, 0.f, 0.f);
+    ospCommit(renderer);
+    const float mean = scene.render(renderer, 1);
+    ospRelease(renderer);
+    return mean;
+  };
+  CHECK(render_with(true, 0.001f) == Approx(0.05f).epsilon(1e-4));
+  CHECK(render_with(false, 0.001f) == Approx(0.082f).epsilon(1e-4));
+  CHECK(render_with(true, 0.f) == Approx(0.082f).epsilon(1e-4));
+  ospRelease(bright);
   CHECK(api.messages.errors == std::vector<std::string>{});
 }
 

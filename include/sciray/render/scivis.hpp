@@ -8,7 +8,9 @@
 // exponent 4 `ns` — so that a white surface facing a distant light of irradiance 1 shows
 // 1/π, as in OSPRay and the path tracer; each light is sampled once, where OSPRay's scivis
 // samples it (the centre of a disk, sphere or cone, a quad light's centre),
-// so shadows are hard when `shadows` is set — soft shadows are the path tracer's. Surfaces with opacity `d` < 1 or a transmissive filter `tf` let
+// so shadows are hard when `shadows` is set — soft shadows are the path tracer's; with
+// them, as in OSPRay, a light adds nothing where its unshadowed contribution is not above
+// `minContribution`. Surfaces with opacity `d` < 1 or a transmissive filter `tf` let
 // the ray continue, up to `maxPathLength` surfaces; shadows are tinted by them too.
 // Volumes are integrated on the same rays, between surfaces. Both see the shutter's
 // middle instant through the lens centre, as OSPRay's (LocalRendererParams).
@@ -429,7 +431,11 @@ private:
           response = response + glossy * pow<Arch>(simd::max(dot(n, h), F(0.f)), shininess);
         }
         Vec3<F> arriving = weight;
-        if (params_.shadows) arriving = arriving * shadow_transmittance(org, wi, dist, ray.time, lit_lanes, light_volumes_);
+        if (params_.shadows) {
+          lit_lanes = lit_lanes & worth_a_shadow_ray(response * weight * o.d);
+          if (!simd::any(lit_lanes)) continue;
+          arriving = arriving * shadow_transmittance(org, wi, dist, ray.time, lit_lanes, light_volumes_);
+        }
         lit = lit + select(lit_lanes, response * arriving, Vec3<F>(splat(0.f)));
       }
       out.color = lit * o.d;
@@ -450,13 +456,26 @@ private:
       F dist;
       if (!sample_light(light, p, n, time, lanes, wi, weight, dist)) continue;
       const F cos_theta = dot(n, wi);
-      const M lit_lanes = lanes & (cos_theta > F(0.f));
+      M lit_lanes = lanes & (cos_theta > F(0.f));
       if (!simd::any(lit_lanes)) continue;
       Vec3<F> arriving = weight;
-      if (params_.shadows) arriving = arriving * shadow_transmittance(p, wi, dist, time, lit_lanes, light_volumes_);
+      if (params_.shadows) {
+        lit_lanes = lit_lanes & worth_a_shadow_ray(diffuse * cos_theta * weight);
+        if (!simd::any(lit_lanes)) continue;
+        arriving = arriving * shadow_transmittance(p, wi, dist, time, lit_lanes, light_volumes_);
+      }
       lit = lit + select(lit_lanes, diffuse * cos_theta * arriving, Vec3<F>(splat(0.f)));
     }
     return lit;
+  }
+
+  /// With shadows, OSPRay's scivis neither traces a shadow ray for a light nor adds its
+  /// light where the unshadowed contribution (BRDF times cosine times the light's sample,
+  /// its luminance) is not above `minContribution`: the many faint lights of a large scene
+  /// (say, one per instance of a group) add nothing there. Without shadows every light adds.
+  M worth_a_shadow_ray(const Vec3<F>& contribution) const {
+    const F luminance = F(0.212671f) * contribution.x + F(0.715160f) * contribution.y + F(0.072169f) * contribution.z;
+    return luminance > F(params_.min_contribution);
   }
 
   /// Per-lane light samples (of a moving instance's light placed at each lane's time)
