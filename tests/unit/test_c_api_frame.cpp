@@ -382,9 +382,13 @@ TEST_CASE("ospGetVariance and varianceThreshold are in OSPRay's units, over its 
   std::vector<float> corners{-10.f, -10.f, 0.f, 3.0984f, -10.f, 0.f, -2.9016f, 10.f, 0.f, -10.f, 10.f, 0.f};
   std::vector<std::uint32_t> quad{0, 1, 2, 3};
   OSPGeometry mesh = ospNewGeometry("mesh");
-  ospSetObject(mesh, "vertex.position", ospNewSharedData1D(corners.data(), OSP_VEC3F, 4));
-  ospSetObject(mesh, "index", ospNewSharedData1D(quad.data(), OSP_VEC4UI, 1));
+  OSPData positions = ospNewSharedData1D(corners.data(), OSP_VEC3F, 4);
+  OSPData indices = ospNewSharedData1D(quad.data(), OSP_VEC4UI, 1);
+  ospSetObject(mesh, "vertex.position", positions);
+  ospSetObject(mesh, "index", indices);
   ospCommit(mesh);
+  ospRelease(positions);
+  ospRelease(indices);
   OSPMaterial white = ospNewMaterial("obj");
   ospSetVec3f(white, "kd", 1.f, 1.f, 1.f);
   ospCommit(white);

@@ -565,9 +565,13 @@ TEST_CASE("pathtracer: a glass cube absorbs inside it whichever way its mesh is 
   for (std::size_t i = 0; i < inward.size(); i += 3) std::swap(inward[i + 1], inward[i + 2]);
   const auto render = [&](std::vector<std::uint32_t>& triangles) {
     OSPGeometry mesh = ospNewGeometry("mesh");
-    ospSetObject(mesh, "vertex.position", ospNewSharedData1D(corners.data(), OSP_VEC3F, 8));
-    ospSetObject(mesh, "index", ospNewSharedData1D(triangles.data(), OSP_VEC3UI, 12));
+    OSPData positions = ospNewSharedData1D(corners.data(), OSP_VEC3F, 8);
+    OSPData indices = ospNewSharedData1D(triangles.data(), OSP_VEC3UI, 12);
+    ospSetObject(mesh, "vertex.position", positions);
+    ospSetObject(mesh, "index", indices);
     ospCommit(mesh);
+    ospRelease(positions);
+    ospRelease(indices);
     OSPMaterial glass = ospNewMaterial("glass");
     ospSetFloat(glass, "eta", 1.5f);
     ospSetVec3f(glass, "attenuationColor", .5f, .5f, .5f);
