@@ -25,13 +25,16 @@ jobs=${JOBS:-$(nproc)}
 werror=OFF
 [ "${CI:-}" = true ] && werror=ON
 cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release -DSCIRAY_WERROR=$werror
-cmake --build "$build_dir" -j "$jobs"
 
 case "${1:-}" in
   render)
+    # Only the tool and the shim it links: the first picture does not wait for the tests
+    # and benchmarks.
+    cmake --build "$build_dir" -j "$jobs" --target sciray_tool
     "$build_dir/examples/sciray" render -o sciray.png
     ;;
   test)
+    cmake --build "$build_dir" -j "$jobs"
     ctest --test-dir "$build_dir" --output-on-failure -j "$jobs"
     ;;
   *)
