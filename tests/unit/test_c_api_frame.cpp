@@ -14,6 +14,7 @@
 
 #include "sciray/frame/image_ops.hpp"
 #include "support/api_fixture.hpp"
+#include "support/c_api_scenes.hpp"
 
 namespace {
 
@@ -373,58 +374,37 @@ TEST_CASE("renderer frame settings: pixelSamples, pixelFilter and varianceThresh
 
 TEST_CASE("ospGetVariance and varianceThreshold are in OSPRay's units, over its 64-pixel tiles", "[c_api][frame]") {
   // A white diagonal edge (x + 0.3 y = 0.0984) in a 64x64 orthographic view of the unit
-  // square, scivis at one sample a pixel under the default ambient light: the first two frames
-  // sample each pixel at the same two points in OSPRay and sciray, so their error
-  // estimates agree. Measured with OSPRay 3.1's runtime: 0.70711 after two frames, the
-  // relative even/odd difference over one 64-pixel tile (2.26 if taken over 16-pixel
+  // square, scivis at one sample a pixel under an ambient light of intensity 1: the first
+  // two frames sample each pixel at the same two points in OSPRay and sciray, so their
+  // error estimates agree. Measured with OSPRay 3.1's runtime: 0.70711 after two frames,
+  // the relative even/odd difference over one 64-pixel tile (2.26 if taken over 16-pixel
   // tiles); infinite after one.
   ApiFixture api;
-  std::vector<float> corners{-10.f, -10.f, 0.f, 3.0984f, -10.f, 0.f, -2.9016f, 10.f, 0.f, -10.f, 10.f, 0.f};
-  std::vector<std::uint32_t> quad{0, 1, 2, 3};
+  const float corners[] = {-10.f, -10.f, 0.f, 3.0984f, -10.f, 0.f, -2.9016f, 10.f, 0.f, -10.f, 10.f, 0.f};
+  const std::uint32_t quad[] = {0, 1, 2, 3};
   OSPGeometry mesh = ospNewGeometry("mesh");
-  OSPData positions = ospNewSharedData1D(corners.data(), OSP_VEC3F, 4);
-  OSPData indices = ospNewSharedData1D(quad.data(), OSP_VEC4UI, 1);
-  ospSetObject(mesh, "vertex.position", positions);
-  ospSetObject(mesh, "index", indices);
+  sciray_test::set_array(mesh, "vertex.position", corners, OSP_VEC3F, 4);
+  sciray_test::set_array(mesh, "index", quad, OSP_VEC4UI, 1);
   ospCommit(mesh);
-  ospRelease(positions);
-  ospRelease(indices);
+  sciray_test::GeometryScene scene(mesh, true);
   OSPMaterial white = ospNewMaterial("obj");
   ospSetVec3f(white, "kd", 1.f, 1.f, 1.f);
   ospCommit(white);
-  OSPGeometricModel model = ospNewGeometricModel(mesh);
-  ospSetObjectAsData(model, "material", OSP_MATERIAL, white);
-  ospCommit(model);
-  OSPGroup group = ospNewGroup();
-  ospSetObjectAsData(group, "geometry", OSP_GEOMETRIC_MODEL, model);
-  ospCommit(group);
-  OSPInstance instance = ospNewInstance(group);
-  ospCommit(instance);
-  OSPWorld world = ospNewWorld();
-  ospSetObjectAsData(world, "instance", OSP_INSTANCE, instance);
-  OSPLight ambient = ospNewLight("ambient");
-  ospCommit(ambient);
-  ospSetObjectAsData(world, "light", OSP_LIGHT, ambient);
-  ospCommit(world);
-  OSPCamera camera = ospNewCamera("orthographic");
-  ospSetVec3f(camera, "position", 0.f, 0.f, -5.f);
-  ospSetVec3f(camera, "direction", 0.f, 0.f, 1.f);
-  ospSetVec3f(camera, "up", 0.f, 1.f, 0.f);
-  ospSetFloat(camera, "height", 1.f);
-  ospSetFloat(camera, "aspect", 1.f);
-  ospCommit(camera);
-  OSPRenderer renderer = ospNewRenderer("scivis");
-  ospSetVec4f(renderer, "backgroundColor", 0.f, 0.f, 0.f, 0.f);
-  ospSetInt(renderer, "pixelSamples", 1);
-  ospCommit(renderer);
+  ospSetObjectAsData(scene.model, "material", OSP_MATERIAL, white);
+  ospCommit(scene.model);
+  ospSetFloat(scene.camera, "height", 1.f);
+  ospSetFloat(scene.camera, "aspect", 1.f);
+  ospCommit(scene.camera);
+  ospSetVec4f(scene.renderer, "backgroundColor", 0.f, 0.f, 0.f, 0.f);
+  ospSetInt(scene.renderer, "pixelSamples", 1);
+  ospCommit(scene.renderer);
   OSPFrameBuffer fb = ospNewFrameBuffer(64, 64, OSP_FB_RGBA32F, OSP_FB_COLOR | OSP_FB_ACCUM | OSP_FB_VARIANCE);
-  CHECK(std::isinf(ospRenderFrameBlocking(fb, renderer, camera, world)));
-  CHECK(ospRenderFrameBlocking(fb, renderer, camera, world) == Approx(0.70711f).epsilon(1e-4));
+  CHECK(std::isinf(ospRenderFrameBlocking(fb, scene.renderer, scene.camera, scene.world)));
+  CHECK(ospRenderFrameBlocking(fb, scene.renderer, scene.camera, scene.world) == Approx(0.70711f).epsilon(1e-4));
   // The estimate changes only after every second frame, as OSPRay's.
   const float after_two = ospGetVariance(fb);
-  CHECK(ospRenderFrameBlocking(fb, renderer, camera, world) == after_two);
+  CHECK(ospRenderFrameBlocking(fb, scene.renderer, scene.camera, scene.world) == after_two);
   CHECK(api.messages.errors.empty());
-  for (OSPObject o :
-       std::initializer_list<OSPObject>{mesh, white, model, group, instance, world, ambient, camera, renderer, fb})
-    ospRelease(o);
+  ospRelease(white);
+  ospRelease(fb);
 }

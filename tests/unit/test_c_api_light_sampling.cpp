@@ -65,30 +65,18 @@ struct LitFloor {
   /// A point light (sphere of radius 0) of `intensity` W/sr at the origin of a group,
   /// placed by an instance moving by `keys` over the shutter.
   void add_moving_point_light(float intensity, const std::vector<Affine>& keys) {
-    OSPLight light = ospNewLight("sphere");
-    ospSetFloat(light, "intensity", intensity);
-    ospCommit(light);
-    OSPGroup light_group = ospNewGroup();
-    ospSetObjectAsData(light_group, "light", OSP_LIGHT, light);
-    ospCommit(light_group);
-    OSPInstance placed = ospNewInstance(light_group);
+    OSPInstance placed = ospNewInstance(new_point_light_group(intensity));
     OSPData motion = ospNewSharedData(keys.data(), OSP_AFFINE3F, keys.size());
     ospSetObject(placed, "motion.transform", motion);
     ospRelease(motion);
     ospCommit(placed);
-    owned.insert(owned.end(), {light, light_group, placed});
+    owned.push_back(placed);
     set_instances({instance, placed});
   }
   /// `count` instances, each moved up by `height`, of one group holding a point light of
   /// `intensity` W/sr at its origin (besides the floor's instance).
   void add_point_light_instances(float intensity, float height, int count) {
-    OSPLight light = ospNewLight("sphere");
-    ospSetFloat(light, "intensity", intensity);
-    ospCommit(light);
-    OSPGroup light_group = ospNewGroup();
-    ospSetObjectAsData(light_group, "light", OSP_LIGHT, light);
-    ospCommit(light_group);
-    owned.insert(owned.end(), {light, light_group});
+    OSPGroup light_group = new_point_light_group(intensity);
     std::vector<OSPInstance> list{instance};
     for (int i = 0; i < count; ++i) {
       OSPInstance placed = ospNewInstance(light_group);
@@ -99,6 +87,18 @@ struct LitFloor {
       list.push_back(placed);
     }
     set_instances(list);
+  }
+  /// A group (owned) holding a point light (sphere of radius 0, owned) of `intensity`
+  /// W/sr at its origin.
+  OSPGroup new_point_light_group(float intensity) {
+    OSPLight light = ospNewLight("sphere");
+    ospSetFloat(light, "intensity", intensity);
+    ospCommit(light);
+    OSPGroup light_group = ospNewGroup();
+    ospSetObjectAsData(light_group, "light", OSP_LIGHT, light);
+    ospCommit(light_group);
+    owned.insert(owned.end(), {light, light_group});
+    return light_group;
   }
   void set_instances(std::vector<OSPInstance> list) {
     OSPData data = ospNewSharedData(list.data(), OSP_INSTANCE, list.size());

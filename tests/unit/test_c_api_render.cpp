@@ -557,59 +557,35 @@ TEST_CASE("pathtracer: a glass cube absorbs inside it whichever way its mesh is 
   // a path is in, not the side of the surface it meets, so a mesh wound inwards (its
   // geometric normals pointing in, as OSPRay's test spheres) absorbs the same.
   ApiFixture api;
-  const std::vector<float> corners{-.5f, -.5f, -.5f, .5f, -.5f, -.5f, .5f, .5f, -.5f, -.5f, .5f, -.5f,
-                                   -.5f, -.5f, .5f,  .5f, -.5f, .5f,  .5f, .5f, .5f,  -.5f, .5f, .5f};
-  std::vector<std::uint32_t> outward{0, 2, 1, 0, 3, 2, 4, 5, 6, 4, 6, 7, 0, 1, 5, 0, 5, 4,
-                                     3, 6, 2, 3, 7, 6, 0, 4, 7, 0, 7, 3, 1, 2, 6, 1, 6, 5};
-  std::vector<std::uint32_t> inward = outward;
-  for (std::size_t i = 0; i < inward.size(); i += 3) std::swap(inward[i + 1], inward[i + 2]);
-  const auto render = [&](std::vector<std::uint32_t>& triangles) {
+  const std::vector<float> corners = sciray_test::cube_corners({-.5f, -.5f, -.5f}, {.5f, .5f, .5f});
+  const auto render = [&](bool inward) {
+    std::vector<std::uint32_t> triangles;
+    for (const auto& t : sciray_test::cube_triangles) triangles.insert(triangles.end(), {t[0], inward ? t[2] : t[1], inward ? t[1] : t[2]});
     OSPGeometry mesh = ospNewGeometry("mesh");
-    OSPData positions = ospNewSharedData1D(corners.data(), OSP_VEC3F, 8);
-    OSPData indices = ospNewSharedData1D(triangles.data(), OSP_VEC3UI, 12);
-    ospSetObject(mesh, "vertex.position", positions);
-    ospSetObject(mesh, "index", indices);
+    sciray_test::set_array(mesh, "vertex.position", corners.data(), OSP_VEC3F, 8);
+    sciray_test::set_array(mesh, "index", triangles.data(), OSP_VEC3UI, 12);
     ospCommit(mesh);
-    ospRelease(positions);
-    ospRelease(indices);
+    sciray_test::GeometryScene scene(mesh, true);
     OSPMaterial glass = ospNewMaterial("glass");
     ospSetFloat(glass, "eta", 1.5f);
     ospSetVec3f(glass, "attenuationColor", .5f, .5f, .5f);
     ospSetFloat(glass, "attenuationDistance", 1.f);
     ospCommit(glass);
-    OSPGeometricModel model = ospNewGeometricModel(mesh);
-    ospSetObjectAsData(model, "material", OSP_MATERIAL, glass);
-    ospCommit(model);
-    OSPGroup group = ospNewGroup();
-    ospSetObjectAsData(group, "geometry", OSP_GEOMETRIC_MODEL, model);
-    ospCommit(group);
-    OSPInstance instance = ospNewInstance(group);
-    ospCommit(instance);
-    OSPWorld world = ospNewWorld();
-    ospSetObjectAsData(world, "instance", OSP_INSTANCE, instance);
-    OSPLight ambient = ospNewLight("ambient");
-    ospCommit(ambient);
-    ospSetObjectAsData(world, "light", OSP_LIGHT, ambient);
-    ospCommit(world);
-    OSPCamera camera = ospNewCamera("orthographic");
-    ospSetVec3f(camera, "position", 0.f, 0.f, -5.f);
-    ospSetVec3f(camera, "direction", 0.f, 0.f, 1.f);
-    ospSetVec3f(camera, "up", 0.f, 1.f, 0.f);
-    ospSetFloat(camera, "height", .5f);
-    ospCommit(camera);
+    ospSetObjectAsData(scene.model, "material", OSP_MATERIAL, glass);
+    ospCommit(scene.model);
+    ospSetFloat(scene.camera, "height", .5f);
+    ospCommit(scene.camera);
     OSPRenderer pathtracer = ospNewRenderer("pathtracer");
     ospSetVec4f(pathtracer, "backgroundColor", 0.f, 0.f, 0.f, 0.f);
     ospCommit(pathtracer);
     OSPFrameBuffer fb = ospNewFrameBuffer(8, 8, OSP_FB_RGBA32F, OSP_FB_COLOR | OSP_FB_ACCUM);
-    for (int f = 0; f < 128; ++f) ospRenderFrameBlocking(fb, pathtracer, camera, world);
+    for (int f = 0; f < 128; ++f) ospRenderFrameBlocking(fb, pathtracer, scene.camera, scene.world);
     const float red = sciray_test::mean_rgb(fb, 64)[0];
-    for (OSPObject o : std::initializer_list<OSPObject>{mesh, glass, model, group, instance, world, ambient, camera,
-                                                        pathtracer, fb})
-      ospRelease(o);
+    for (OSPObject o : std::initializer_list<OSPObject>{glass, pathtracer, fb}) ospRelease(o);
     return red;
   };
   const float f = 0.04f, a = 0.5f;
-  CHECK(render(outward) == Approx(f + (1.f - f) * (1.f - f) * a / (1.f - f * a)).margin(0.02));
-  CHECK(render(inward) == Approx(f + (1.f - f) * (1.f - f) * a / (1.f - f * a)).margin(0.02));
+  CHECK(render(false) == Approx(f + (1.f - f) * (1.f - f) * a / (1.f - f * a)).margin(0.02));
+  CHECK(render(true) == Approx(f + (1.f - f) * (1.f - f) * a / (1.f - f * a)).margin(0.02));
   CHECK(api.messages.errors.empty());
 }
