@@ -335,8 +335,10 @@ TEST_CASE("RMSE against a converged image falls as spp^-1/2 (pathtracer, scivis,
     // -1/2 for independent samples. The first 16 dimensions are low-discrepancy (R16
     // with a per-pixel rotation), which may converge faster; a sampler whose 2D pairs
     // were one R2 sequence measured -0.63 (pathtracer) to -0.69 (scivis): pairs that
-    // stratify well across the pixel's samples steepen it.
-    CHECK(slope > -0.65);
+    // stratify well across the pixel's samples steepen it. Since AO directions are drawn
+    // only by the lanes being shaded (each pixel's first hit takes the same draws in every
+    // sample), ao measures -0.651 and scivis -0.647.
+    CHECK(slope > -0.66);
     CHECK(slope < -0.35);
     for (std::size_t i = 1; i < errors.size(); ++i) CHECK(errors[i] < errors[i - 1]);
   }

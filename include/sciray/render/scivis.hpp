@@ -531,8 +531,14 @@ private:
     alignas(64) float d[3][W];
     for (int k = 0; k < params_.ao_samples; ++k) {
       for (int i = 0; i < W; ++i) {
-        const auto u = rng[i].next_2d();
-        const Vec3f w = detail::sample_cosine({simd::lane(n.x, i), simd::lane(n.y, i), simd::lane(n.z, i)}, u.u, u.v);
+        // Only the lanes shaded here draw: a pixel's AO rays then depend on its own hits,
+        // not on what else its packet hit (nor on the packet's width or a region's clip).
+        const Vec3f normal{simd::lane(n.x, i), simd::lane(n.y, i), simd::lane(n.z, i)};
+        Vec3f w = normal;
+        if (simd::lane(lanes, i)) {
+          const auto u = rng[i].next_2d();
+          w = detail::sample_cosine(normal, u.u, u.v);
+        }
         d[0][i] = w.x, d[1][i] = w.y, d[2][i] = w.z;
       }
       const Vec3<F> dir{simd::load<Arch>(d[0]), simd::load<Arch>(d[1]), simd::load<Arch>(d[2])};
