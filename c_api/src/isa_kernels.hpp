@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "sciray/accel/trace.hpp"
+#include "sciray/distributed/region_renderer.hpp"
 #include "sciray/frame/render_frame.hpp"
 #include "sciray/shim/engine.hpp"
 
@@ -34,6 +35,26 @@ void render(const EngineWorld& world, const RendererConfig& config, const Camera
           render_frame<Arch>(AmbientOcclusion<Arch, EngineWorld>(world, params), camera, fb, control, settings);
         else
           render_frame<Arch>(PathTracer<Arch, EngineWorld>(world, params), camera, fb, control, settings);
+      },
+      config);
+}
+
+template <class Arch>
+void render_region(const EngineWorld& world, const RendererConfig& config, const Camera& camera, const Box3f& region,
+                   const FrameSettings& settings, std::uint32_t frame_index, distributed::FragmentImage& out) {
+  std::visit(
+      [&](const auto& params) {
+        using P = std::decay_t<decltype(params)>;
+        if constexpr (std::is_same_v<P, SciVisParams>)
+          out = distributed::render_region<Arch>(SciVis<Arch, EngineWorld>(world, distributed::region_params(params)),
+                                                 camera, region, out.width, out.height, settings, frame_index);
+        else if constexpr (std::is_same_v<P, AOParams>)
+          out = distributed::render_region<Arch>(
+              AmbientOcclusion<Arch, EngineWorld>(world, distributed::region_params(params)), camera, region,
+              out.width, out.height, settings, frame_index);
+        else
+          throw Error("render_region: the path tracer cannot render a region of a data-parallel world (its paths "
+                      "leave the region); use scivis or ao (mpiRaycast)");
       },
       config);
 }
@@ -93,7 +114,8 @@ IsaKernels make_kernels(simd::Isa isa) {
           &render<Arch>,
           &sample_volume<Arch, StructuredRegular<float>>,
           &sample_volume<Arch, StructuredRegular<float, BrickedLayout>>,
-          &trace<Arch>};
+          &trace<Arch>,
+          &render_region<Arch>};
 }
 
 }  // namespace sciray::shim

@@ -8,7 +8,9 @@
 #include <string_view>
 #include <variant>
 
+#include "sciray/distributed/fragments.hpp"
 #include "sciray/frame/framebuffer.hpp"
+#include "sciray/math/box.hpp"
 #include "sciray/frame/render_frame.hpp"
 #include "sciray/geometry/boxes.hpp"
 #include "sciray/geometry/curves.hpp"
@@ -70,6 +72,13 @@ struct IsaKernels {
                                 std::span<float> out);
   /// Traces arbitrary rays in packets of this ISA's width.
   void (*trace)(const EngineWorld& world, std::span<const Ray<float>> rays, std::span<TraceResult> results);
+  /// Renders what the scivis or ao renderer (OSPRay's mpiRaycast: distributed/mpi_raycast.hpp)
+  /// sees of `world` inside `region` as one region's fragment of a data-parallel frame
+  /// (distributed/region_renderer.hpp), `out`'s size; `frame_index`: which frame of an
+  /// accumulation (only 0 until render_frame takes it). Throws for the path tracer.
+  void (*render_region)(const EngineWorld& world, const RendererConfig& renderer, const Camera& camera,
+                        const Box3f& region, const FrameSettings& settings, std::uint32_t frame_index,
+                        distributed::FragmentImage& out);
 };
 
 /// The entry points of `isa`; throws if this CPU cannot run it.
