@@ -40,18 +40,39 @@ void render(const EngineWorld& world, const RendererConfig& config, const Camera
 }
 
 template <class Arch>
+void render_tiles(const EngineWorld& world, const RendererConfig& config, const Camera& camera, FrameBuffer& fb,
+                  std::span<const TileWork> share, FrameControl* control, const FrameSettings& settings) {
+  std::visit(
+      [&](const auto& params) {
+        using P = std::decay_t<decltype(params)>;
+        if constexpr (std::is_same_v<P, SciVisParams>)
+          sciray::render_tiles<Arch>(SciVis<Arch, EngineWorld>(world, params), camera, fb, share, control, settings);
+        else if constexpr (std::is_same_v<P, AOParams>)
+          sciray::render_tiles<Arch>(AmbientOcclusion<Arch, EngineWorld>(world, params), camera, fb, share, control,
+                                     settings);
+        else
+          sciray::render_tiles<Arch>(PathTracer<Arch, EngineWorld>(world, params), camera, fb, share, control,
+                                     settings);
+      },
+      config);
+}
+
+inline void accumulate_tile(FrameBuffer& fb, int tile, const float* packed) { fb.accumulate_tile(tile, packed); }
+
+template <class Arch>
 void render_region(const EngineWorld& world, const RendererConfig& config, const Camera& camera, const Box3f& region,
-                   const FrameSettings& settings, std::uint32_t frame_index, distributed::FragmentImage& out) {
+                   const FrameSettings& settings, std::span<const std::uint32_t> tile_frames,
+                   distributed::FragmentImage& out) {
   std::visit(
       [&](const auto& params) {
         using P = std::decay_t<decltype(params)>;
         if constexpr (std::is_same_v<P, SciVisParams>)
           out = distributed::render_region<Arch>(SciVis<Arch, EngineWorld>(world, distributed::region_params(params)),
-                                                 camera, region, out.width, out.height, settings, frame_index);
+                                                 camera, region, out.width, out.height, settings, tile_frames);
         else if constexpr (std::is_same_v<P, AOParams>)
           out = distributed::render_region<Arch>(
               AmbientOcclusion<Arch, EngineWorld>(world, distributed::region_params(params)), camera, region,
-              out.width, out.height, settings, frame_index);
+              out.width, out.height, settings, tile_frames);
         else
           throw Error("render_region: the path tracer cannot render a region of a data-parallel world (its paths "
                       "leave the region); use scivis or ao (mpiRaycast)");
@@ -112,6 +133,8 @@ IsaKernels make_kernels(simd::Isa isa) {
           &commit<Arch>,
           &render_scivis<Arch>,
           &render<Arch>,
+          &render_tiles<Arch>,
+          &accumulate_tile,
           &sample_volume<Arch, StructuredRegular<float>>,
           &sample_volume<Arch, StructuredRegular<float, BrickedLayout>>,
           &trace<Arch>,

@@ -61,7 +61,7 @@ std::vector<float> render_split(const std::vector<const shim::EngineWorld*>& wor
   std::vector<FragmentImage> fragments;
   for (std::size_t i = 0; i < regions.size(); ++i) {
     FragmentImage fragment(width, height);
-    kernels().render_region(*worlds[i], config, camera, regions[i], settings, 0, fragment);
+    kernels().render_region(*worlds[i], config, camera, regions[i], settings, {}, fragment);
     fragments.push_back(std::move(fragment));
   }
   std::vector<float> rgba;
@@ -369,6 +369,6 @@ TEST_CASE("brick grids, box splits and bad arguments", "[distributed]") {
   kernels().commit(scene.world);
   FragmentImage fragment(8, 8);
   CHECK_THROWS_WITH(kernels().render_region(scene.world, PathTracerParams{}, PerspectiveCamera{},
-                                            {{-1.f, -1.f, -1.f}, {1.f, 1.f, 1.f}}, {}, 0, fragment),
+                                            {{-1.f, -1.f, -1.f}, {1.f, 1.f, 1.f}}, {}, {}, fragment),
                     Catch::Contains("path tracer cannot render a region"));
 }

@@ -12,8 +12,11 @@
 #include <algorithm>
 #include <cstdint>
 #include <limits>
+#include <span>
+#include <string>
 #include <type_traits>
 #include <variant>
+#include <vector>
 
 #include "sciray/distributed/fragments.hpp"
 #include "sciray/frame/framebuffer.hpp"
@@ -111,21 +114,22 @@ private:
 /// Renders what `renderer` (built with region_params) sees inside `region` into a
 /// fragment image of width x height: premultiplied RGBA averaged over the frame's
 /// samples, each pixel's sort key, and the depth channel's first-hit distance.
-///
-/// `frame_index` will say which frame of an accumulation this is (render_frame's sample
-/// index is frame * pixelSamples + s), so that fragments of later frames sample where the
-/// normal frame does. Only frame 0 renders until render_frame takes the tile frame index:
-/// pass `frame_index` to it below then.
+/// `tile_frames` holds each tile's frame index in an accumulation (render_tiles; empty:
+/// the first frame), so that fragments of later frames sample where the normal frame does.
 template <class Arch, class Renderer, class CameraT>
 FragmentImage render_region(const Renderer& renderer, const CameraT& camera, const Box3f& region, int width,
-                            int height, const FrameSettings& settings = {}, std::uint32_t frame_index = 0) {
-  if (frame_index != 0)
-    throw Error("render_region: frame " + std::to_string(frame_index) +
-                " of an accumulation needs render_frame's frame index, which it does not take yet");
+                            int height, const FrameSettings& settings = {},
+                            std::span<const std::uint32_t> tile_frames = {}) {
   FragmentImage out(width, height);
   FrameBuffer fb(width, height, ColorFormat::rgba32f, channel_color | channel_depth);
+  if (!tile_frames.empty() && tile_frames.size() != static_cast<std::size_t>(fb.tile_count()))
+    throw Error("render_region: " + std::to_string(tile_frames.size()) + " tile frame counts for " +
+                std::to_string(fb.tile_count()) + " tiles");
+  std::vector<TileWork> every_tile(static_cast<std::size_t>(fb.tile_count()));
+  for (int tile = 0; tile < fb.tile_count(); ++tile)
+    every_tile[static_cast<std::size_t>(tile)] = {tile, tile_frames.empty() ? 0u : tile_frames[static_cast<std::size_t>(tile)]};
   const RegionRenderer<Arch, Renderer> clipped(renderer, region, out.key.data());
-  render_frame<Arch>(clipped, camera, fb, nullptr, settings);  // frame_index goes here
+  render_tiles<Arch>(clipped, camera, fb, every_tile, nullptr, settings);
   out.rgba = fb.color32f();
   out.depth = fb.depth();
   return out;

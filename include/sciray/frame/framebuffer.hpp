@@ -221,6 +221,64 @@ public:
     write_lanes<Arch>(pixel, sample, depth_projected, before);
   }
 
+  // ---- frames rendered elsewhere ------------------------------------------------------
+  // A frame split among renderers (ranks of an MPI job) is rendered into staging frame
+  // buffers (render_tiles: RGBA32F, the same other channels, no accumulation), whose
+  // tiles are packed, sent and accumulated by the frame's owner as if it had rendered them.
+
+  /// Floats per pixel of a packed tile: RGBA, then where this frame buffer has them the
+  /// distance and projected depth, normal, albedo and each id channel (as bits).
+  int packed_floats() const {
+    return 4 + (has(channel_depth) ? 2 : 0) + (has(channel_normal) ? 3 : 0) + (has(channel_albedo) ? 3 : 0) +
+           (has(channel_id_primitive) ? 1 : 0) + (has(channel_id_object) ? 1 : 0) + (has(channel_id_instance) ? 1 : 0);
+  }
+  /// Pixels of `tile` (fewer than tile_size^2 at the right and top edges).
+  std::size_t tile_pixels(int tile) const {
+    const int x0 = (tile % tiles_x_) * tile_size, y0 = (tile / tiles_x_) * tile_size;
+    return static_cast<std::size_t>(std::min(tile_size, width_ - x0)) *
+           static_cast<std::size_t>(std::min(tile_size, height_ - y0));
+  }
+  /// Appends the frame samples this staging frame buffer holds for `tile` to `out`,
+  /// packed_floats() per pixel, row by row.
+  void pack_tile(int tile, std::vector<float>& out) const {
+    if (has(channel_accum) || format_ != ColorFormat::rgba32f)
+      throw Error("framebuffer: only a staging frame buffer (RGBA32F, no accumulation) packs tiles");
+    for_each_tile_pixel(tile, [&](std::size_t p) {
+      out.insert(out.end(), &color32_[4 * p], &color32_[4 * p] + 4);
+      if (has(channel_depth)) out.push_back(depth_[p]), out.push_back(depth_projected_[p]);
+      if (has(channel_normal)) out.insert(out.end(), &normal_[3 * p], &normal_[3 * p] + 3);
+      if (has(channel_albedo)) out.insert(out.end(), &albedo_[3 * p], &albedo_[3 * p] + 3);
+      for (const auto* ids : {&primitive_id_, &object_id_, &instance_id_})
+        if (!ids->empty()) out.push_back(std::bit_cast<float>((*ids)[p]));
+    });
+  }
+  /// Writes a tile's frame samples, packed by a staging frame buffer with the same
+  /// depth, normal, albedo and id channels, as render_frame writes its own (averaging
+  /// them into the accumulation), and counts the frame for the tile. `packed` holds
+  /// packed_floats() * tile_pixels(tile) values.
+  void accumulate_tile(int tile, const float* packed) {
+    if (tile < 0 || tile >= tile_count())
+      throw Error("framebuffer: tile " + std::to_string(tile) + " is outside the " + std::to_string(tile_count()) +
+                  " tiles");
+    const std::uint32_t before = tile_frames(tile);
+    for_each_tile_pixel(tile, [&](std::size_t p) {
+      PixelSample<simd::scalar> sample;
+      sample.color = {packed[0], packed[1], packed[2]};
+      sample.alpha = packed[3];
+      packed += 4;
+      float projected = 0.f;
+      if (has(channel_depth)) sample.t = packed[0], projected = packed[1], packed += 2;
+      if (has(channel_normal)) sample.normal = {packed[0], packed[1], packed[2]}, packed += 3;
+      if (has(channel_albedo)) sample.albedo = {packed[0], packed[1], packed[2]}, packed += 3;
+      for (auto [ids, id] : {std::pair{&primitive_id_, &sample.prim_id}, std::pair{&object_id_, &sample.geom_id},
+                             std::pair{&instance_id_, &sample.inst_id}})
+        if (!ids->empty()) *id = std::bit_cast<std::int32_t>(*packed++);
+      const auto pixel = static_cast<std::int32_t>(p);
+      write_packet<simd::scalar>(&pixel, sample, simd::Float<simd::scalar>(projected), before);
+    });
+    finish_tile(tile);
+  }
+
   /// The image operations applied, in order, to the colour output (not to the
   /// accumulation). Outputs already written are redone from the accumulation where
   /// there is one; otherwise the next frame shows the change.
@@ -341,10 +399,13 @@ private:
 
   static float luminance(float r, float g, float b) { return 0.2126f * r + 0.7152f * g + 0.0722f * b; }
 
-  std::size_t tile_pixels(int tile) const {
+  /// Calls visit(p) for the pixels of `tile`, row by row.
+  template <class Visit>
+  void for_each_tile_pixel(int tile, Visit&& visit) const {
     const int x0 = (tile % tiles_x_) * tile_size, y0 = (tile / tiles_x_) * tile_size;
-    return static_cast<std::size_t>(std::min(tile_size, width_ - x0)) *
-           static_cast<std::size_t>(std::min(tile_size, height_ - y0));
+    for (int y = y0; y < std::min(y0 + tile_size, height_); ++y)
+      for (int x = x0; x < std::min(x0 + tile_size, width_); ++x)
+        visit(static_cast<std::size_t>(y) * static_cast<std::size_t>(width_) + static_cast<std::size_t>(x));
   }
 
   /// Whether frame `frame` (0 for the first) counts in the second half of the estimate.

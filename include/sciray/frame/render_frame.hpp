@@ -11,6 +11,7 @@
 #include <concepts>
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <string>
 #include <variant>
 
@@ -81,6 +82,19 @@ concept PreparedCamera = requires(const C& camera, const simd::Float<Arch>& s, c
   { camera.projected_depth(ray, s) } -> std::same_as<simd::Float<Arch>>;
 };
 
+/// One tile of a share of a frame: its index and the frames it had before this one,
+/// which place its samples in each pixel's sequence (FrameBuffer::tile_frames).
+struct TileWork {
+  std::int32_t tile;
+  std::uint32_t frames_before;
+};
+
+namespace detail {
+template <class Arch, class Renderer, class CameraT>
+std::uint32_t render_tiles(const Renderer& renderer, const CameraT& camera, FrameBuffer& fb, FrameControl* control,
+                           const FrameSettings& settings, const std::span<const TileWork>* share);
+}  // namespace detail
+
 /// Renders one frame of `renderer` into `fb`, accumulating if the frame buffer does:
 /// `settings.pixel_samples` samples per pixel (sample index frame * pixel_samples + s,
 /// the frame counted per tile), each at the offset the pixel filter gives OSPRay's
@@ -94,6 +108,33 @@ template <class Arch, class Renderer, class CameraT>
   requires PacketRenderer<Renderer, Arch> && PreparedCamera<CameraT, Arch>
 std::uint32_t render_frame(const Renderer& renderer, const CameraT& camera, FrameBuffer& fb,
                            FrameControl* control = nullptr, const FrameSettings& settings = {}) {
+  return detail::render_tiles<Arch>(renderer, camera, fb, control, settings, nullptr);
+}
+
+/// Renders a share of a frame: the tiles of `share`, each at its own frame index, into
+/// `fb`, which stages the frame's samples (it must not accumulate: whoever owns the
+/// frame accumulates them, see FrameBuffer::accumulate_tile). The samples are those
+/// render_frame would take for the tiles of a frame buffer with those frame counts, so
+/// a frame split among renderers in any way is the same frame. Returns the tiles rendered.
+template <class Arch, class Renderer, class CameraT>
+  requires PacketRenderer<Renderer, Arch> && PreparedCamera<CameraT, Arch>
+std::uint32_t render_tiles(const Renderer& renderer, const CameraT& camera, FrameBuffer& fb,
+                           std::span<const TileWork> share, FrameControl* control = nullptr,
+                           const FrameSettings& settings = {}) {
+  if (fb.has(channel_accum))
+    throw Error("render_tiles: the frame buffer stages a share of a frame and must not accumulate");
+  for (const TileWork& work : share)
+    if (work.tile < 0 || work.tile >= fb.tile_count())
+      throw Error("render_tiles: tile " + std::to_string(work.tile) + " is outside the frame buffer's " +
+                  std::to_string(fb.tile_count()) + " tiles");
+  return detail::render_tiles<Arch>(renderer, camera, fb, control, settings, &share);
+}
+
+namespace detail {
+/// render_frame over every tile of `fb` (`share` null), or render_tiles over `share`.
+template <class Arch, class Renderer, class CameraT>
+std::uint32_t render_tiles(const Renderer& renderer, const CameraT& camera, FrameBuffer& fb, FrameControl* control,
+                           const FrameSettings& settings, const std::span<const TileWork>* share) {
   using F = simd::Float<Arch>;
   using M = simd::Mask<Arch>;
   using S = Stamp<Arch>;
@@ -102,7 +143,7 @@ std::uint32_t render_frame(const Renderer& renderer, const CameraT& camera, Fram
   validate(settings);
 
   const int width = fb.width(), height = fb.height();
-  const int tile_count = fb.tile_count();
+  const int tile_count = share ? static_cast<int>(share->size()) : fb.tile_count();
   if (control) control->tiles_done = 0, control->tile_count = static_cast<std::uint32_t>(tile_count);
   const float inv_width = 1.f / static_cast<float>(width), inv_height = 1.f / static_cast<float>(height);
   const auto samples = static_cast<std::uint32_t>(settings.pixel_samples);
@@ -144,10 +185,12 @@ std::uint32_t render_frame(const Renderer& renderer, const CameraT& camera, Fram
   tbb::parallel_for(tbb::blocked_range<int>(0, tile_count), [&](const tbb::blocked_range<int>& range) {
     alignas(64) std::int32_t pixel[W];
     alignas(64) float inside[W];
-    for (int tile = range.begin(); tile != range.end(); ++tile) {
+    for (int work = range.begin(); work != range.end(); ++work) {
       if (control && control->cancel.load(std::memory_order_relaxed)) return;
-      if (!fb.tile_converged(tile, settings.variance_threshold)) {
-        const std::uint32_t tile_frames = fb.tile_frames(tile);
+      const int tile = share ? (*share)[static_cast<std::size_t>(work)].tile : work;
+      if (share || !fb.tile_converged(tile, settings.variance_threshold)) {
+        const std::uint32_t tile_frames =
+            share ? (*share)[static_cast<std::size_t>(work)].frames_before : fb.tile_frames(tile);
         const std::uint32_t first_sample = tile_frames * samples;
         const int tile_x0 = (tile % fb.tiles_x()) * tile_size, tile_y0 = (tile / fb.tiles_x()) * tile_size;
         for (int y0 = tile_y0; y0 < std::min(tile_y0 + tile_size, height); y0 += S::height) {
@@ -224,7 +267,8 @@ std::uint32_t render_frame(const Renderer& renderer, const CameraT& camera, Fram
               frame.normal = frame.normal * inv_samples;
               frame.albedo = frame.albedo * inv_samples;
             }
-            fb.write_packet<Arch>(pixel, frame, frame_projected, tile_frames);
+            // A share's frame buffer stages this frame alone: each value is the frame's.
+            fb.write_packet<Arch>(pixel, frame, frame_projected, share ? 0u : tile_frames);
           }
         }
         fb.finish_tile(tile);
@@ -233,12 +277,14 @@ std::uint32_t render_frame(const Renderer& renderer, const CameraT& camera, Fram
       if (control) control->tiles_done.fetch_add(1, std::memory_order_relaxed);
     }
   });
+  if (share) return tiles_rendered.load();  // the frame's owner finishes it
   if (control && control->cancel.load())
     fb.reset_accumulation();
   else if (tiles_rendered.load() > 0)  // a frame that found every tile converged adds nothing
     fb.finish_frame(settings.variance_threshold);
   return tiles_rendered.load();
 }
+}  // namespace detail
 
 /// render_frame for a Camera variant: the camera type is resolved once per frame.
 template <class Arch, class Renderer>
@@ -246,6 +292,15 @@ std::uint32_t render_frame(const Renderer& renderer, const Camera& camera, Frame
                            FrameControl* control = nullptr, const FrameSettings& settings = {}) {
   return std::visit([&](const auto& c) { return render_frame<Arch>(renderer, prepare(c), fb, control, settings); },
                     camera);
+}
+
+/// render_tiles for a Camera variant.
+template <class Arch, class Renderer>
+std::uint32_t render_tiles(const Renderer& renderer, const Camera& camera, FrameBuffer& fb,
+                           std::span<const TileWork> share, FrameControl* control = nullptr,
+                           const FrameSettings& settings = {}) {
+  return std::visit(
+      [&](const auto& c) { return render_tiles<Arch>(renderer, prepare(c), fb, share, control, settings); }, camera);
 }
 
 /// What render_until achieved: frames rendered by the call and the frame buffer's

@@ -65,6 +65,13 @@ struct IsaKernels {
   /// variance threshold from `settings`.
   void (*render)(const EngineWorld& world, const RendererConfig& renderer, const Camera& camera, FrameBuffer& fb,
                  FrameControl* control, const FrameSettings& settings);
+  /// Renders a share of a frame (render_tiles): the tiles of `share` at their frame
+  /// indices into the staging frame buffer `fb`, for a frame accumulated elsewhere.
+  void (*render_tiles)(const EngineWorld& world, const RendererConfig& renderer, const Camera& camera, FrameBuffer& fb,
+                       std::span<const TileWork> share, FrameControl* control, const FrameSettings& settings);
+  /// FrameBuffer::accumulate_tile compiled for this ISA, for frames rendered elsewhere
+  /// to round as frames rendered here.
+  void (*accumulate_tile)(FrameBuffer& fb, int tile, const float* packed);
   /// Samples a float volume (linear or bricked layout) at `positions`, in packets of this
   /// ISA's width (for measuring the sampler; renderers sample inside their kernels).
   void (*sample_volume)(const StructuredRegular<float>& volume, std::span<const Vec3f> positions, std::span<float> out);
@@ -74,10 +81,10 @@ struct IsaKernels {
   void (*trace)(const EngineWorld& world, std::span<const Ray<float>> rays, std::span<TraceResult> results);
   /// Renders what the scivis or ao renderer (OSPRay's mpiRaycast: distributed/mpi_raycast.hpp)
   /// sees of `world` inside `region` as one region's fragment of a data-parallel frame
-  /// (distributed/region_renderer.hpp), `out`'s size; `frame_index`: which frame of an
-  /// accumulation (only 0 until render_frame takes it). Throws for the path tracer.
+  /// (distributed/region_renderer.hpp), `out`'s size; `tile_frames`: each tile's frame
+  /// index in the accumulation. Throws for the path tracer.
   void (*render_region)(const EngineWorld& world, const RendererConfig& renderer, const Camera& camera,
-                        const Box3f& region, const FrameSettings& settings, std::uint32_t frame_index,
+                        const Box3f& region, const FrameSettings& settings, std::span<const std::uint32_t> tile_frames,
                         distributed::FragmentImage& out);
 };
 
