@@ -36,6 +36,9 @@
 #include "sciray/testing/scenes.hpp"
 #include "shading_json.hpp"
 #include "volume_scene.hpp"
+#ifdef SCIRAY_TOOL_MPI
+#include "mpi_frames.hpp"
+#endif
 
 namespace {
 
@@ -92,6 +95,7 @@ struct RenderOptions {
   std::string isa = "auto";
   int threads = 0;
   int frames = 1;
+  bool mpi = false;
   std::string output = "sciray.png";
   std::string depth;
   bool json = false;
@@ -216,6 +220,12 @@ int render(const RenderOptions& opt) {
   const auto& kernels = sciray::shim::kernels(isa);
   const int threads = opt.threads > 0 ? opt.threads : tbb::info::default_concurrency();
   const bool float_output = std::filesystem::path(opt.output).extension() == ".pfm";
+#ifdef SCIRAY_TOOL_MPI
+  std::optional<sciray_tool::MpiFrames> mpi;
+  if (opt.mpi) mpi.emplace();
+#else
+  if (opt.mpi) throw sciray::Error("--mpi: this sciray was built without MPI (OpenMPI at configure time: SCIRAY_MPI)");
+#endif
 
   nlohmann::json report;
   tbb::task_arena arena(threads);
@@ -335,11 +345,24 @@ int render(const RenderOptions& opt) {
     if (opt.tonemap) fb.set_image_operations({sciray::Tonemapper()});
     std::vector<double> frame_ms;
     // With an error target, frames stop once the frame buffer's estimate meets it.
-    for (int f = 0; f < opt.frames && !(opt.error_target > 0.f && fb.variance() <= opt.error_target); ++f) {
+    for (int f = 0;; ++f) {
+      bool another = f < opt.frames && !(opt.error_target > 0.f && fb.variance() <= opt.error_target);
+#ifdef SCIRAY_TOOL_MPI
+      if (mpi) another = mpi->another_frame(another);  // rank 0's estimate decides
+#endif
+      if (!another) break;
       start = Clock::now();
-      kernels.render(world, config, camera, fb, nullptr, settings);
+#ifdef SCIRAY_TOOL_MPI
+      if (mpi)
+        mpi->render(kernels, world, config, camera, fb, settings, threads);
+      else
+#endif
+        kernels.render(world, config, camera, fb, nullptr, settings);
       frame_ms.push_back(ms_since(start));
     }
+#ifdef SCIRAY_TOOL_MPI
+    if (mpi && !mpi->writes_outputs()) return;
+#endif
     sciray::io::write_color(fb, opt.output);
     if (!opt.depth.empty()) sciray::io::write_depth(fb, opt.depth);
 
@@ -351,6 +374,9 @@ int render(const RenderOptions& opt) {
               {"isa", std::string(sciray::simd::isa_name(isa))},
               {"simd_width", sciray::simd::isa_width(isa)},
               {"threads", threads},
+#ifdef SCIRAY_TOOL_MPI
+              {"ranks", mpi ? mpi->ranks() : 1},
+#endif
               {"width", width},
               {"height", height},
               {"triangles", triangles},
@@ -373,6 +399,7 @@ int render(const RenderOptions& opt) {
               {"bytes_per_primitive", primitives ? nlohmann::json(static_cast<double>(total_bytes) / primitives)
                                                  : nlohmann::json()}};
   });
+  if (report.is_null()) return 0;  // a rank of an MPI job that only rendered tiles
   if (opt.json) {
     std::cout << report.dump() << "\n";
   } else {
@@ -421,6 +448,9 @@ int main(int argc, char** argv) {
   render_cmd->add_option("-o,--output", opt.output, "output image (.png, or .pfm for float colour)");
   render_cmd->add_option("--depth", opt.depth, "also write Euclidean depth to this .pfm");
   render_cmd->add_flag("--json", opt.json, "print timings and sizes as one JSON object");
+  render_cmd->add_flag("--mpi", opt.mpi,
+                       "image-parallel over the ranks of an MPI job (mpirun -n 3 sciray render ... --mpi): rank 0 "
+                       "writes the outputs, the others render tiles");
   render_cmd->add_option("--style", opt.style, "molecules: ball-and-stick or space-filling");
   render_cmd->add_option("--tf", opt.volume.tf, "volumes: transfer function JSON {colors, opacities, range}");
   render_cmd->add_option("--layout", opt.volume.layout, "volumes: linear (in place) or bricked");

@@ -9,6 +9,8 @@
 
 #include "device.hpp"
 #include "frame_objects.hpp"
+#include "mpi/distributed.hpp"
+#include "mpi/offload.hpp"
 #include "scene_objects.hpp"
 
 using namespace sciray::ospray;
@@ -71,6 +73,44 @@ Handle handle_of(Object* o) {
   return reinterpret_cast<Handle>(o);
 }
 
+/// Where the current device forwards the calls that change state (an mpiOffload device
+/// on the application's rank), or null. Calls are recorded after they succeeded here.
+offload::CommandLog* forwarding() {
+  offload::Session* session = device().offload();
+  return session ? &session->log() : nullptr;
+}
+
+/// A new object of `kind` (and `type`), recorded for the workers of an offloading device.
+template <class Handle>
+Handle created(Object* o, const std::string& type = {}) {
+  if (offload::CommandLog* log = forwarding()) log->new_object(o->kind(), type, o);
+  return handle_of<Handle>(o);
+}
+
+/// Makes `d` the current device (the one API calls without a device argument use).
+void make_current(Device* d) {
+  if (d == current_device) return;
+  d->retain();
+  if (current_device && current_device->release()) delete current_device;
+  current_device = d;
+}
+
+const char* const device_types = "cpu, mpiOffload, mpiDistributed";
+
+/// Modules are built in; loading one that exists does nothing.
+void check_module(const std::string& module) {
+  if (module != "cpu" && module != "mpi" && module != "mpi_offload" && module != "mpi_distributed_cpu")
+    throw Error("module '" + module + "' does not exist: sciray's types are built in (modules cpu, mpi_offload, "
+                "mpi_distributed_cpu)");
+}
+
+DeviceType device_type_of(const std::string& name) {
+  if (name == "cpu" || name == "default") return DeviceType::cpu;
+  if (name == "mpiOffload" || name == "mpi_offload" || name == "mpi") return DeviceType::mpi_offload;
+  if (name == "mpiDistributed" || name == "mpi_distributed") return DeviceType::mpi_distributed;
+  throw Error("unknown device type '" + name + "' (sciray provides: " + device_types + ")");
+}
+
 std::string type_string(const char* type) {
   if (!type) throw Error("the type name is NULL");
   return type;
@@ -101,7 +141,10 @@ extern "C" {
 
 OSPError ospInit(int* argc, const char** argv) {
   return guarded("ospInit", [&] {
-    auto d = std::make_unique<Device>();
+    DeviceType type = DeviceType::cpu;
+    for (int i = 1; argc && argv && i < *argc; ++i)
+      if (argv[i] && std::strncmp(argv[i], "--osp:device=", 13) == 0) type = device_type_of(argv[i] + 13);
+    auto d = std::make_unique<Device>(type);
     const bool have_args = argc && argv && *argc > 0;
     int kept = 1;  // argv[0], the program
     for (int i = 1; have_args && i < *argc; ++i) {
@@ -128,9 +171,14 @@ OSPError ospInit(int* argc, const char** argv) {
         d->set_param("debug", OSP_INT, &on);
       } else if (key == "isa") {
         d->set_param("isa", OSP_STRING, value.c_str());
-      } else if (key == "device" || key == "load-modules") {
-        if (key == "device" && value != "cpu" && value != "default")
-          throw Error("--osp:device=" + value + ": sciray provides the 'cpu' device only");
+      } else if (key == "load-modules") {
+        for (std::size_t at = 0; at <= value.size();) {
+          const std::size_t comma = std::min(value.find(',', at), value.size());
+          if (comma > at) check_module(value.substr(at, comma - at));
+          at = comma + 1;
+        }
+      } else if (key == "device") {
+        // chosen above
       } else {
         throw Error("unknown option " + arg);
       }
@@ -139,8 +187,10 @@ OSPError ospInit(int* argc, const char** argv) {
     // argv may be longer, or hold no NULL after the arguments, so nothing past them is written.
     if (have_args) *argc = kept;
     d->commit();
-    if (current_device && current_device->release()) delete current_device;
-    current_device = d.release();
+    Device* dev = d.release();
+    make_current(dev);
+    dev->release();  // current_device holds the reference
+    dev->start_mpi([dev] { make_current(dev); });
     return OSP_NO_ERROR;
   }, OSP_INVALID_ARGUMENT);
 }
@@ -152,20 +202,14 @@ void ospShutdown() {
 
 OSPDevice ospNewDevice(const char* type) {
   return guarded("ospNewDevice", [&] {
-    const std::string t = type ? type : "cpu";
-    if (t != "cpu" && t != "default") unknown_type("device", t, "cpu");
-    return reinterpret_cast<OSPDevice>(new Device());
+    return reinterpret_cast<OSPDevice>(new Device(device_type_of(type ? type : "cpu")));
   }, OSPDevice{});
 }
 
 void ospSetCurrentDevice(OSPDevice d) {
   guarded_void("ospSetCurrentDevice", [&] {
     if (!d) throw Error("device is NULL");
-    auto* dev = reinterpret_cast<Device*>(d);
-    if (dev == current_device) return;
-    dev->retain();
-    if (current_device && current_device->release()) delete current_device;
-    current_device = dev;
+    make_current(reinterpret_cast<Device*>(d));
   });
 }
 
@@ -219,10 +263,16 @@ const char* ospDeviceGetLastErrorMsg(OSPDevice d) {
 }
 
 void ospDeviceCommit(OSPDevice d) {
-  guarded_void("ospDeviceCommit", [&] {
-    if (!d) throw Error("device is NULL");
-    reinterpret_cast<Device*>(d)->commit();
-  });
+  if (!d) return guarded_void("ospDeviceCommit", [] { throw Error("device is NULL"); });
+  auto* dev = reinterpret_cast<Device*>(d);
+  try {  // reported by the device committed, which need not be current yet
+    dev->commit();
+    dev->start_mpi([dev] { make_current(dev); });
+  } catch (const sciray::Error& e) {
+    dev->error(OSP_INVALID_ARGUMENT, std::string("ospDeviceCommit: ") + e.what());
+  } catch (const std::exception& e) {
+    dev->error(OSP_UNKNOWN_ERROR, std::string("ospDeviceCommit: ") + e.what());
+  }
 }
 
 void ospDeviceRelease(OSPDevice d) {
@@ -240,8 +290,7 @@ void ospDeviceRetain(OSPDevice d) {
 
 OSPError ospLoadModule(const char* name) {
   return guarded("ospLoadModule", [&] {
-    const std::string module = name ? name : "";
-    if (module != "cpu") throw Error("module '" + module + "' does not exist: sciray's types are built in ('cpu')");
+    check_module(name ? name : "");
     return OSP_NO_ERROR;
   }, OSP_INVALID_ARGUMENT);
 }
@@ -251,12 +300,18 @@ OSPError ospLoadModule(const char* name) {
 OSPData ospNewSharedData(const void* shared, OSPDataType type, uint64_t n1, int64_t s1, uint64_t n2, int64_t s2,
                          uint64_t n3, int64_t s3, OSPDeleterCallback deleter, const void* user) {
   return guarded("ospNewSharedData", [&] {
-    return handle_of<OSPData>(new Data(shared, type, {n1, n2, n3}, {s1, s2, s3}, deleter, user));
+    auto* data = new Data(shared, type, {n1, n2, n3}, {s1, s2, s3}, deleter, user);
+    if (offload::CommandLog* log = forwarding()) log->new_data(data, *data);
+    return handle_of<OSPData>(data);
   }, OSPData{});
 }
 
 OSPData ospNewData(OSPDataType type, uint64_t n1, uint64_t n2, uint64_t n3) {
-  return guarded("ospNewData", [&] { return handle_of<OSPData>(new Data(type, {n1, n2, n3})); }, OSPData{});
+  return guarded("ospNewData", [&] {
+    auto* data = new Data(type, {n1, n2, n3});
+    if (offload::CommandLog* log = forwarding()) log->new_data(data, *data);
+    return handle_of<OSPData>(data);
+  }, OSPData{});
 }
 
 void ospCopyData(const OSPData source, OSPData destination, uint64_t i1, uint64_t i2, uint64_t i3) {
@@ -264,6 +319,7 @@ void ospCopyData(const OSPData source, OSPData destination, uint64_t i1, uint64_
     auto& from = live_as<Data>(source, OSP_DATA, "source");
     auto& to = live_as<Data>(destination, OSP_DATA, "destination");
     to.copy_from(from, {i1, i2, i3});
+    if (offload::CommandLog* log = forwarding()) log->copy_data(source, destination, i1, i2, i3);
   });
 }
 
@@ -275,7 +331,7 @@ OSPLight ospNewLight(const char* type) {
     if (t != "ambient" && t != "distant" && t != "sphere" && t != "spot" && t != "quad" && t != "cylinder" &&
         t != "hdri" && t != "sunSky")
       unknown_type("light", t, "ambient, distant, sphere, spot, quad, cylinder, hdri, sunSky");
-    return handle_of<OSPLight>(new Light(t));
+    return created<OSPLight>(new Light(t), t);
   }, OSPLight{});
 }
 
@@ -284,7 +340,7 @@ OSPCamera ospNewCamera(const char* type) {
     const std::string t = type_string(type);
     if (t != "perspective" && t != "orthographic" && t != "panoramic")
       unknown_type("camera", t, "perspective, orthographic, panoramic");
-    return handle_of<OSPCamera>(new CameraObject(t));
+    return created<OSPCamera>(new CameraObject(t), t);
   }, OSPCamera{});
 }
 
@@ -294,7 +350,7 @@ OSPGeometry ospNewGeometry(const char* type) {
     if (t != "mesh" && t != "sphere" && t != "curve" && t != "box" && t != "plane" && t != "isosurface" &&
         t != "subdivision")
       unknown_type("geometry", t, "mesh, sphere, curve, box, plane, isosurface, subdivision");
-    return handle_of<OSPGeometry>(new Geometry(t));
+    return created<OSPGeometry>(new Geometry(t), t);
   }, OSPGeometry{});
 }
 
@@ -302,7 +358,7 @@ OSPVolume ospNewVolume(const char* type) {
   return guarded("ospNewVolume", [&] {
     const std::string t = type_string(type);
     if (t != "structuredRegular") unknown_type("volume", t, "structuredRegular");
-    return handle_of<OSPVolume>(new VolumeObject(t));
+    return created<OSPVolume>(new VolumeObject(t), t);
   }, OSPVolume{});
 }
 
@@ -311,6 +367,7 @@ OSPGeometricModel ospNewGeometricModel(OSPGeometry geometry) {
     if (geometry) live_as<Geometry>(geometry, OSP_GEOMETRY, "geometry");
     auto* model = new GeometricModel();
     if (geometry) model->set_param("geometry", OSP_GEOMETRY, &geometry);
+    if (offload::CommandLog* log = forwarding()) log->new_holder(OSP_GEOMETRIC_MODEL, model, geometry);
     return handle_of<OSPGeometricModel>(model);
   }, OSPGeometricModel{});
 }
@@ -320,6 +377,7 @@ OSPVolumetricModel ospNewVolumetricModel(OSPVolume volume) {
     if (volume) live_as<VolumeObject>(volume, OSP_VOLUME, "volume");
     auto* model = new VolumetricModelObject();
     if (volume) model->set_param("volume", OSP_VOLUME, &volume);
+    if (offload::CommandLog* log = forwarding()) log->new_holder(OSP_VOLUMETRIC_MODEL, model, volume);
     return handle_of<OSPVolumetricModel>(model);
   }, OSPVolumetricModel{});
 }
@@ -328,7 +386,7 @@ OSPMaterial ospNewMaterial(const char* type) {
   return guarded("ospNewMaterial", [&] {
     const std::string t = type_string(type);
     if (!sciray::material_of_type(t)) unknown_type("material", t, sciray::material_type_list().c_str());
-    return handle_of<OSPMaterial>(new Material(t));
+    return created<OSPMaterial>(new Material(t), t);
   }, OSPMaterial{});
 }
 
@@ -336,7 +394,7 @@ OSPTransferFunction ospNewTransferFunction(const char* type) {
   return guarded("ospNewTransferFunction", [&] {
     const std::string t = type_string(type);
     if (t != "piecewiseLinear") unknown_type("transfer function", t, "piecewiseLinear");
-    return handle_of<OSPTransferFunction>(new TransferFunctionObject(t));
+    return created<OSPTransferFunction>(new TransferFunctionObject(t), t);
   }, OSPTransferFunction{});
 }
 
@@ -344,12 +402,12 @@ OSPTexture ospNewTexture(const char* type) {
   return guarded("ospNewTexture", [&] {
     const std::string t = type_string(type);
     if (t != "volume" && t != "texture2d") unknown_type("texture", t, "volume, texture2d");
-    return handle_of<OSPTexture>(new TextureObject(t));
+    return created<OSPTexture>(new TextureObject(t), t);
   }, OSPTexture{});
 }
 
 OSPGroup ospNewGroup() {
-  return guarded("ospNewGroup", [] { return handle_of<OSPGroup>(new Group()); }, OSPGroup{});
+  return guarded("ospNewGroup", [] { return created<OSPGroup>(new Group()); }, OSPGroup{});
 }
 
 OSPInstance ospNewInstance(OSPGroup group) {
@@ -357,12 +415,13 @@ OSPInstance ospNewInstance(OSPGroup group) {
     if (group) live_as<Group>(group, OSP_GROUP, "group");
     auto* instance = new Instance();
     if (group) instance->set_param("group", OSP_GROUP, &group);
+    if (offload::CommandLog* log = forwarding()) log->new_holder(OSP_INSTANCE, instance, group);
     return handle_of<OSPInstance>(instance);
   }, OSPInstance{});
 }
 
 OSPWorld ospNewWorld() {
-  return guarded("ospNewWorld", [] { return handle_of<OSPWorld>(new World()); }, OSPWorld{});
+  return guarded("ospNewWorld", [] { return created<OSPWorld>(new World()); }, OSPWorld{});
 }
 
 OSPBounds ospGetBounds(OSPObject object) {
@@ -395,6 +454,7 @@ void ospSetParam(OSPObject object, const char* id, OSPDataType type, const void*
     Object& o = live(object, "object");
     if (!id) throw Error(o.name() + ": parameter name is NULL");
     o.set_param(id, type, mem);
+    if (offload::CommandLog* log = forwarding()) log->set_param(object, id, type, mem);
   });
 }
 
@@ -403,6 +463,7 @@ void ospRemoveParam(OSPObject object, const char* id) {
     Object& o = live(object, "object");
     if (!id) throw Error(o.name() + ": parameter name is NULL");
     o.remove_param(id);
+    if (offload::CommandLog* log = forwarding()) log->remove_param(object, id);
   });
 }
 
@@ -410,16 +471,30 @@ void ospCommit(OSPObject object) {
   guarded_void("ospCommit", [&] {
     Object& o = live(object, "object");
     report_unused(o, o.commit());
+    if (offload::CommandLog* log = forwarding()) {
+      // Committing an array that shares the application's memory says the memory changed.
+      if (o.kind() == OSP_DATA && static_cast<Data&>(o).shares_memory()) log->update_data(object, static_cast<Data&>(o));
+      log->commit(object);
+    }
   });
 }
 
 void ospRelease(OSPObject object) {
   if (!object) return;
-  guarded_void("ospRelease", [&] { live(object, "object").release(); });
+  guarded_void("ospRelease", [&] {
+    Object& o = live(object, "object");
+    const bool forwarded = o.kind() != OSP_FUTURE;  // futures live on the application's rank only
+    o.release();
+    if (offload::CommandLog* log = forwarding(); log && forwarded) log->release(object);
+  });
 }
 
 void ospRetain(OSPObject object) {
-  guarded_void("ospRetain", [&] { live(object, "object").retain(); });
+  guarded_void("ospRetain", [&] {
+    Object& o = live(object, "object");
+    o.retain();
+    if (offload::CommandLog* log = forwarding(); log && o.kind() != OSP_FUTURE) log->retain(object);
+  });
 }
 
 // ---- frame buffers ---------------------------------------------------------------------
@@ -433,7 +508,9 @@ OSPFrameBuffer ospNewFrameBuffer(int width, int height, OSPFrameBufferFormat for
                     " are not OSPFrameBufferChannel values and are ignored");
     if ((channels & OSP_FB_VARIANCE) && !(channels & OSP_FB_ACCUM))
       device().warn("frame buffer: OSP_FB_VARIANCE needs OSP_FB_ACCUM; no variance will be estimated");
-    return handle_of<OSPFrameBuffer>(new FrameBufferObject(width, height, format, channels));
+    auto* frame = new FrameBufferObject(width, height, format, channels);
+    if (offload::CommandLog* log = forwarding()) log->new_frame_buffer(frame, width, height, format, channels);
+    return handle_of<OSPFrameBuffer>(frame);
   }, OSPFrameBuffer{});
 }
 
@@ -441,7 +518,7 @@ OSPImageOperation ospNewImageOperation(const char* type) {
   return guarded("ospNewImageOperation", [&] {
     const std::string t = type_string(type);
     if (t != "tonemapper" && t != "debug") unknown_type("image operation", t, "tonemapper, debug");
-    return handle_of<OSPImageOperation>(new ImageOperationObject(t));
+    return created<OSPImageOperation>(new ImageOperationObject(t), t);
   }, OSPImageOperation{});
 }
 
@@ -478,8 +555,9 @@ void ospResetAccumulation(OSPFrameBuffer fb) {
 OSPRenderer ospNewRenderer(const char* type) {
   return guarded("ospNewRenderer", [&] {
     const std::string t = type_string(type);
-    if (t != "scivis" && t != "ao" && t != "pathtracer") unknown_type("renderer", t, "scivis, ao, pathtracer");
-    return handle_of<OSPRenderer>(new Renderer(t));
+    if (t != "scivis" && t != "ao" && t != "pathtracer" && t != "mpiRaycast")
+      unknown_type("renderer", t, "scivis, ao, pathtracer, mpiRaycast");
+    return created<OSPRenderer>(new Renderer(t), t);
   }, OSPRenderer{});
 }
 
@@ -488,10 +566,13 @@ struct FrameInputs {
   Ref<FrameBufferObject> fb;
   Ref<Renderer> renderer;
   Ref<CameraObject> camera;
+  Ref<World> world_object;
   std::shared_ptr<const BuiltWorld> world;
 };
 
-FrameInputs frame_inputs(OSPFrameBuffer fb, OSPRenderer renderer, OSPCamera camera, OSPWorld world) {
+/// The frame's objects, checked; the world built for rendering here unless `build` is
+/// false (an offloading device's workers build it).
+FrameInputs frame_inputs(OSPFrameBuffer fb, OSPRenderer renderer, OSPCamera camera, OSPWorld world, bool build = true) {
   FrameInputs in;
   in.fb = &live_as<FrameBufferObject>(fb, OSP_FRAMEBUFFER, "frame buffer");
   in.renderer = &live_as<Renderer>(renderer, OSP_RENDERER, "renderer");
@@ -500,6 +581,8 @@ FrameInputs frame_inputs(OSPFrameBuffer fb, OSPRenderer renderer, OSPCamera came
   if (!in.renderer->committed()) throw Error(in.renderer->name() + " has not been committed");
   if (!in.camera->committed()) throw Error(in.camera->name() + " has not been committed");
   if (!w.committed()) throw Error("world has not been committed");
+  in.world_object = &w;
+  if (!build) return in;
   Device& dev = device();
   BuildLog log;
   log.want_memory = dev.logs(OSP_LOG_DEBUG);  // memory_bytes walks every instance
@@ -512,8 +595,30 @@ FrameInputs frame_inputs(OSPFrameBuffer fb, OSPRenderer renderer, OSPCamera came
 
 OSPFuture ospRenderFrame(OSPFrameBuffer fb, OSPRenderer renderer, OSPCamera camera, OSPWorld world) {
   return guarded("ospRenderFrame", [&] {
-    FrameInputs in = frame_inputs(fb, renderer, camera, world);
     Device& dev = device();
+    if (offload::Session* session = dev.offload()) {
+      FrameInputs in = frame_inputs(fb, renderer, camera, world, false);
+      auto serve = session->render_frame(in.fb, in.renderer, in.camera, in.world_object, dev.kernels());
+      dev.retain();  // the frame may outlive ospShutdown
+      auto* future = new Future([serve = std::move(serve), &dev](FrameControl& control) {
+        try {
+          serve(control);
+        } catch (const std::exception& e) {
+          dev.error(OSP_UNKNOWN_ERROR, std::string("ospRenderFrame: ") + e.what());
+        }
+        if (dev.release()) delete &dev;
+      });
+      // Without MPI_THREAD_MULTIPLE the application may call MPI as soon as this returns.
+      if (!session->frames_run_asynchronously()) future->wait();
+      return handle_of<OSPFuture>(future);
+    }
+    FrameInputs in = frame_inputs(fb, renderer, camera, world);
+    if (distributed::Session* session = dev.distributed()) {
+      // A collective call: every rank renders and composites before it returns.
+      std::lock_guard lock(in.fb->mutex());
+      session->render_frame(*in.fb, *in.renderer, *in.camera, *in.world_object, *in.world, dev);
+      return handle_of<OSPFuture>(new Future([](FrameControl&) {}));
+    }
     dev.retain();  // the frame may outlive ospShutdown
     auto task = [in, &dev](FrameControl& control) {
       const shim::RendererConfig config = in.renderer->config(*in.world);
@@ -583,6 +688,7 @@ void ospPick(OSPPickResult* result, OSPFrameBuffer fb, OSPRenderer renderer, OSP
     result->worldPosition[0] = p.x, result->worldPosition[1] = p.y, result->worldPosition[2] = p.z;
     origin.instance->retain();
     origin.model->retain();
+    if (offload::CommandLog* log = forwarding()) log->retain(origin.instance), log->retain(origin.model);
     result->instance = handle_of<OSPInstance>(origin.instance);
     result->model = handle_of<OSPGeometricModel>(origin.model);
     result->primID = prim;

@@ -33,6 +33,8 @@ public:
     return base_ + static_cast<std::int64_t>(i) * strides_[0] + static_cast<std::int64_t>(j) * strides_[1] +
            static_cast<std::int64_t>(k) * strides_[2];
   }
+  /// Whether the elements are the application's memory (ospNewSharedData).
+  bool shares_memory() const { return shared_ != nullptr; }
   /// The object at linear index `i` of an object array (may be NULL).
   Object* object(std::uint64_t i) const { return objects_.at(i).get(); }
 

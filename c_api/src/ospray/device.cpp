@@ -4,9 +4,19 @@
 
 #include <tbb/info.h>
 
+#include "mpi/distributed.hpp"
+#include "mpi/offload.hpp"
+
 namespace sciray::ospray {
 
-Device::Device() { commit(); }
+Device::Device(DeviceType type) : type_(type) { commit(); }
+
+Device::~Device() = default;
+
+void Device::start_mpi(const std::function<void()>& make_current) {
+  if (type_ == DeviceType::mpi_offload && !offload_) offload_ = offload::start(*this, make_current);
+  if (type_ == DeviceType::mpi_distributed && !distributed_) distributed_ = distributed::start();
+}
 
 void Device::set_param(const std::string& id, OSPDataType type, const void* mem) {
   if (!mem) throw Error("device: parameter '" + id + "': value pointer is NULL");

@@ -1,8 +1,11 @@
 #pragma once
 // OSPDevice: parameters (numThreads, logLevel, warnAsError, isa), the error and status
 // callbacks with their user pointers, the last error, and the thread arena and ISA
-// kernels every frame of this device runs with.
+// kernels every frame of this device runs with. The MPI types add their session once
+// committed: `mpiOffload` on the application's rank forwards its calls to the workers
+// (mpi/offload.hpp), `mpiDistributed` composites every rank's frame (mpi/distributed.hpp).
 #include <atomic>
+#include <functional>
 #include <memory>
 #include <string>
 
@@ -13,9 +16,32 @@
 
 namespace sciray::ospray {
 
+namespace offload {
+class Session;
+}
+namespace distributed {
+class Session;
+}
+
+/// The device types: `cpu` (also `default`), and with MPI `mpiOffload` (image-parallel,
+/// the application on rank 0) and `mpiDistributed` (data-parallel: every rank renders
+/// its own part of the world).
+enum class DeviceType { cpu, mpi_offload, mpi_distributed };
+
 class Device {
 public:
-  Device();
+  explicit Device(DeviceType type = DeviceType::cpu);
+  ~Device();
+
+  DeviceType type() const { return type_; }
+  /// The mpiOffload session on the application's rank once the device is committed; null
+  /// for the other types.
+  offload::Session* offload() const { return offload_.get(); }
+  /// The mpiDistributed session once the device is committed; null for the other types.
+  distributed::Session* distributed() const { return distributed_.get(); }
+  /// Starts an MPI device's session (at its first commit). An mpiOffload device's workers
+  /// do not return: they make the device current, serve the application and end the process.
+  void start_mpi(const std::function<void()>& make_current);
 
   void set_param(const std::string& id, OSPDataType type, const void* mem);
   void remove_param(const std::string& id);
@@ -50,6 +76,9 @@ private:
     std::string isa;
   };
 
+  DeviceType type_;
+  std::unique_ptr<offload::Session> offload_;
+  std::unique_ptr<distributed::Session> distributed_;
   std::atomic<int> refs_{1};
   Params staged_, committed_;
   OSPErrorCallback error_cb_ = nullptr;

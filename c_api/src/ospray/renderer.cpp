@@ -1,4 +1,4 @@
-// OSPRay's renderers: scivis, ao, pathtracer.
+// OSPRay's renderers: scivis, ao, pathtracer and mpiRaycast.
 #include "scene_common.hpp"
 
 #include <algorithm>
@@ -6,6 +6,8 @@
 #include <cstring>
 #include <string>
 #include <type_traits>
+
+#include "sciray/distributed/mpi_raycast.hpp"
 
 namespace sciray::ospray {
 
@@ -39,8 +41,9 @@ void Renderer::on_commit() {
     p.ao_samples = get_int("aoSamples", p.ao_samples);
     p.ao_distance = get_float("aoDistance", p.ao_distance);
     config = p;
-  } else if (subtype() == "ao") {
-    AOParams p = common(AOParams{});
+  } else if (subtype() == "ao" || subtype() == "mpiRaycast") {
+    // mpiRaycast (OSPRay's data-parallel renderer) is ao with its own defaults.
+    AOParams p = common(subtype() == "ao" ? AOParams{} : distributed::mpi_raycast_params());
     p.ao_samples = get_int("aoSamples", p.ao_samples);
     p.ao_distance = get_float("aoDistance", p.ao_distance);
     p.ao_intensity = get_float("aoIntensity", p.ao_intensity);

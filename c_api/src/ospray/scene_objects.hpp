@@ -519,6 +519,8 @@ public:
   /// through `kernels` (the rendering device's ISA).
   std::shared_ptr<const BuiltWorld> built(const shim::IsaKernels& kernels, BuildLog& log);
   Box3f bounds() const;
+  /// `region`: the boxes of the world this rank owns (mpiDistributed); empty if not set.
+  const std::vector<Box3f>& regions() const { return regions_; }
   std::uint64_t version() const override;
 
 protected:
@@ -537,6 +539,7 @@ private:
 
   std::vector<Ref<Instance>> instances_;
   std::vector<Ref<Light>> lights_;
+  std::vector<Box3f> regions_;
   struct MaterialEntry {
     Ref<Material> material;
     bool baked;

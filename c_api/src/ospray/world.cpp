@@ -156,6 +156,20 @@ void World::on_commit() {
         throw Error(name() + ": parameter 'light' element " + std::to_string(i) + " is NULL or not committed");
       lights_.emplace_back(light);
     }
+  regions_.clear();
+  if (const Data* list = get_data(*this, find("region"), "region", {OSP_BOX3F}))
+    regions_ = list->to_vector<Box3f>([](const std::byte* element) {
+      float b[6];
+      std::memcpy(b, element, sizeof b);
+      return Box3f{{b[0], b[1], b[2]}, {b[3], b[4], b[5]}};
+    });
+  for (std::size_t i = 0; i < regions_.size(); ++i) {
+    const Box3f& r = regions_[i];
+    if (!(r.lower.x < r.upper.x && r.lower.y < r.upper.y && r.lower.z < r.upper.z) ||
+        !std::isfinite(r.lower.x + r.lower.y + r.lower.z + r.upper.x + r.upper.y + r.upper.z))
+      throw Error(name() + ": parameter 'region' element " + std::to_string(i) +
+                  " is empty or not finite (lower must be below upper on every axis)");
+  }
 }
 
 std::uint64_t World::version() const {
