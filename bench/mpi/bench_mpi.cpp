@@ -33,6 +33,7 @@ struct Command {
 };
 
 int rank = 0, ranks = 1;
+std::unique_ptr<sciray::mpi::DataParallel> compositor;  // made by every rank before the first command
 
 /// Rank 0's command to every rank; the others wait for it sleeping, not spinning, so that
 /// rank 0's own measurements get the cores.
@@ -107,9 +108,8 @@ void follow() {
       sciray::FrameBuffer fb(command.size, command.size, sciray::ColorFormat::srgba, channels);
       image_parallel_frame(MPI_COMM_WORLD, frame_id++, fb);
     } else {
-      static sciray::mpi::DataParallel compositor(MPI_COMM_WORLD);
       const auto layer = layer_of(command.size);
-      compositor.composite_frame(std::span(&layer, 1), command.size, command.size, {}, nullptr);
+      compositor->composite_frame(std::span(&layer, 1), command.size, command.size, {}, nullptr);
     }
   }
 }
@@ -141,13 +141,14 @@ void image_parallel(benchmark::State& state) {
 
 void composite(benchmark::State& state) {
   const int size = static_cast<int>(state.range(0));
-  static sciray::mpi::DataParallel compositor(MPI_COMM_WORLD);
   sciray::FrameBuffer fb(size, size, sciray::ColorFormat::srgba, sciray::channel_color | sciray::channel_depth);
   const auto layer = layer_of(size);
   double sent = 0, frames = 0;
   for (auto _ : state) {
     share({Op::composite, size});
-    sent += static_cast<double>(compositor.composite_frame(std::span(&layer, 1), size, size, {}, &fb).bytes_sent);
+    sent += static_cast<double>(
+        compositor->composite_frame(std::span(&layer, 1), size, size, {}, &fb, scene().kernels->accumulate_tile)
+            .bytes_sent);
     ++frames;
   }
   state.counters["ranks"] = ranks;
@@ -163,6 +164,7 @@ int main(int argc, char** argv) {
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
   MPI_Comm_size(MPI_COMM_WORLD, &ranks);
   scene();  // every rank holds the scene before the first frame
+  compositor = std::make_unique<sciray::mpi::DataParallel>(MPI_COMM_WORLD);
   if (rank != 0) {
     follow();
   } else {
@@ -176,6 +178,7 @@ int main(int argc, char** argv) {
     benchmark::RunSpecifiedBenchmarks();
     share({Op::stop, 0});
   }
+  compositor.reset();
   MPI_Finalize();
   return 0;
 }

@@ -57,7 +57,10 @@ void render_tiles(const EngineWorld& world, const RendererConfig& config, const 
       config);
 }
 
-inline void accumulate_tile(FrameBuffer& fb, int tile, const float* packed) { fb.accumulate_tile(tile, packed); }
+template <class Arch>
+void accumulate_tile(FrameBuffer& fb, int tile, const float* packed) {
+  fb.template accumulate_tile<Arch>(tile, packed);
+}
 
 template <class Arch>
 void render_region(const EngineWorld& world, const RendererConfig& config, const Camera& camera, const Box3f& region,
@@ -134,7 +137,7 @@ IsaKernels make_kernels(simd::Isa isa) {
           &render_scivis<Arch>,
           &render<Arch>,
           &render_tiles<Arch>,
-          &accumulate_tile,
+          &accumulate_tile<Arch>,
           &sample_volume<Arch, StructuredRegular<float>>,
           &sample_volume<Arch, StructuredRegular<float, BrickedLayout>>,
           &trace<Arch>,

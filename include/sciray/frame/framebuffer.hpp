@@ -254,28 +254,51 @@ public:
   }
   /// Writes a tile's frame samples, packed by a staging frame buffer with the same
   /// depth, normal, albedo and id channels, as render_frame writes its own (averaging
-  /// them into the accumulation), and counts the frame for the tile. `packed` holds
-  /// packed_floats() * tile_pixels(tile) values.
+  /// them into the accumulation, Arch's width of pixels at a time), and counts the frame
+  /// for the tile. `packed` holds packed_floats() * tile_pixels(tile) values.
+  template <class Arch = simd::scalar>
   void accumulate_tile(int tile, const float* packed) {
     if (tile < 0 || tile >= tile_count())
       throw Error("framebuffer: tile " + std::to_string(tile) + " is outside the " + std::to_string(tile_count()) +
                   " tiles");
-    const std::uint32_t before = tile_frames(tile);
+    constexpr int W = simd::width<Arch>;
+    using F = simd::Float<Arch>;
+    alignas(64) std::int32_t pixel[W];
+    alignas(64) float lanes[13][W] = {};  // rgba, t, projected t, normal, albedo
+    alignas(64) std::int32_t id_lanes[3][W] = {};
+    alignas(64) std::uint32_t before[W];
+    std::fill_n(before, W, tile_frames(tile));
+    const int floats = packed_floats();
+    const int ids = static_cast<int>(!primitive_id_.empty()) + static_cast<int>(!object_id_.empty()) +
+                    static_cast<int>(!instance_id_.empty());
+    const int values = floats - ids;
+    int filled = 0;
+    const auto flush = [&] {
+      for (int i = filled; i < W; ++i) pixel[i] = -1;
+      const auto load = [&](int k) { return simd::load<Arch>(lanes[k]); };
+      PixelSample<Arch> sample;
+      sample.color = {load(0), load(1), load(2)};
+      sample.alpha = load(3);
+      int k = 4;
+      F projected(0.f);
+      if (has(channel_depth)) sample.t = load(k), projected = load(k + 1), k += 2;
+      if (has(channel_normal)) sample.normal = {load(k), load(k + 1), load(k + 2)}, k += 3;
+      if (has(channel_albedo)) sample.albedo = {load(k), load(k + 1), load(k + 2)}, k += 3;
+      int next_id = 0;
+      for (auto [channel, id] : {std::pair{&primitive_id_, &sample.prim_id}, std::pair{&object_id_, &sample.geom_id},
+                                 std::pair{&instance_id_, &sample.inst_id}})
+        if (!channel->empty()) *id = simd::load<Arch>(id_lanes[next_id++]);
+      write_lanes<Arch>(pixel, sample, projected, before);
+      filled = 0;
+    };
     for_each_tile_pixel(tile, [&](std::size_t p) {
-      PixelSample<simd::scalar> sample;
-      sample.color = {packed[0], packed[1], packed[2]};
-      sample.alpha = packed[3];
-      packed += 4;
-      float projected = 0.f;
-      if (has(channel_depth)) sample.t = packed[0], projected = packed[1], packed += 2;
-      if (has(channel_normal)) sample.normal = {packed[0], packed[1], packed[2]}, packed += 3;
-      if (has(channel_albedo)) sample.albedo = {packed[0], packed[1], packed[2]}, packed += 3;
-      for (auto [ids, id] : {std::pair{&primitive_id_, &sample.prim_id}, std::pair{&object_id_, &sample.geom_id},
-                             std::pair{&instance_id_, &sample.inst_id}})
-        if (!ids->empty()) *id = std::bit_cast<std::int32_t>(*packed++);
-      const auto pixel = static_cast<std::int32_t>(p);
-      write_packet<simd::scalar>(&pixel, sample, simd::Float<simd::scalar>(projected), before);
+      pixel[filled] = static_cast<std::int32_t>(p);
+      for (int k = 0; k < values; ++k) lanes[k][filled] = packed[k];
+      for (int k = 0; k < ids; ++k) id_lanes[k][filled] = std::bit_cast<std::int32_t>(packed[values + k]);
+      packed += floats;
+      if (++filled == W) flush();
     });
+    if (filled) flush();
     finish_tile(tile);
   }
 

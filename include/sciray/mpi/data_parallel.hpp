@@ -22,6 +22,8 @@
 #include <thread>
 #include <vector>
 
+#include <tbb/parallel_for.h>
+
 #include "sciray/distributed/fragments.hpp"
 #include "sciray/frame/framebuffer.hpp"
 #include "sciray/math/box.hpp"
@@ -97,9 +99,10 @@ public:
   /// Composites the fragment images of every rank (this rank's `layers`, one per region
   /// it owns, each width x height, possibly none) over `background` (collective). The
   /// owner's `fb` (colour, optionally depth, accumulation and variance) accumulates
-  /// the frame; the other ranks pass null.
+  /// the frame with `accumulate`; the other ranks pass null.
   CompositeTraffic composite_frame(std::span<const distributed::FragmentImage> layers, int width, int height,
-                                   const distributed::Background& background, FrameBuffer* fb) {
+                                   const distributed::Background& background, FrameBuffer* fb,
+                                   AccumulateTile accumulate = accumulate_tile) {
     for (const auto& layer : layers)
       if (layer.width != width || layer.height != height)
         throw Error("mpi: a fragment image of " + std::to_string(layer.width) + "x" + std::to_string(layer.height) +
@@ -112,8 +115,10 @@ public:
       return std::pair{first * static_cast<std::size_t>(width), (last - first) * static_cast<std::size_t>(width)};
     };
 
-    // Each owner's band of every layer that sees it: rgba, key, depth.
-    std::vector<float> outgoing;
+    // Each owner's band of every layer that sees it: rgba, key, depth. (The buffers are
+    // kept from frame to frame: fresh pages cost more than the compositing.)
+    std::vector<float>& outgoing = outgoing_;
+    outgoing.clear();
     std::vector<int> send_counts(static_cast<std::size_t>(ranks_)), send_offsets(static_cast<std::size_t>(ranks_));
     for (int r = 0; r < ranks_; ++r) {
       const auto [first, count] = band(r);
@@ -138,7 +143,8 @@ public:
     wait(request, "exchanging fragment counts");
     int total = 0;
     for (int r = 0; r < ranks_; ++r) receive_offsets[static_cast<std::size_t>(r)] = total, total += receive_counts[static_cast<std::size_t>(r)];
-    std::vector<float> incoming(static_cast<std::size_t>(total));
+    std::vector<float>& incoming = incoming_;
+    incoming.resize(static_cast<std::size_t>(total));
     check(MPI_Ialltoallv(outgoing.data(), send_counts.data(), send_offsets.data(), MPI_FLOAT, incoming.data(),
                          receive_counts.data(), receive_offsets.data(), MPI_FLOAT, comm_, &request),
           "MPI_Ialltoallv");
@@ -152,7 +158,8 @@ public:
       const std::span<const float> layer(incoming.data() + at, per_layer);
       views.emplace_back(layer.subspan(0, 4 * count), layer.subspan(4 * count, count), layer.subspan(5 * count, count));
     }
-    std::vector<float> composited(5 * count);  // rgba, then depth
+    std::vector<float>& composited = composited_;  // rgba, then depth
+    composited.resize(5 * count);
     distributed::composite(views, background, std::span(composited).subspan(0, 4 * count),
                            std::span(composited).subspan(4 * count, count));
 
@@ -162,7 +169,8 @@ public:
       band_counts[static_cast<std::size_t>(r)] = static_cast<int>(5 * band(r).second);
       band_offsets[static_cast<std::size_t>(r)] = static_cast<int>(5 * band(r).first);
     }
-    std::vector<float> bands(owns_frames() ? 5 * static_cast<std::size_t>(width) * static_cast<std::size_t>(height) : 0);
+    std::vector<float>& bands = bands_;
+    bands.resize(owns_frames() ? 5 * static_cast<std::size_t>(width) * static_cast<std::size_t>(height) : 0);
     check(MPI_Igatherv(composited.data(), static_cast<int>(composited.size()), MPI_FLOAT, bands.data(),
                        band_counts.data(), band_offsets.data(), MPI_FLOAT, owner_, comm_, &request),
           "MPI_Igatherv");
@@ -177,7 +185,7 @@ public:
       traffic.bytes_sent += sizeof(float) * composited.size();
       return traffic;
     }
-    accumulate(bands, width, band, *fb);
+    accumulate_bands(bands, width, band, *fb, accumulate);
     return traffic;
   }
 
@@ -198,16 +206,18 @@ private:
   /// Writes the gathered image (band r: its pixels' rgba, then their depths) into `fb`
   /// tile by tile, and finishes the frame.
   template <class Band>
-  void accumulate(const std::vector<float>& bands, int width, const Band& band, FrameBuffer& fb) const {
+  void accumulate_bands(const std::vector<float>& bands, int width, const Band& band, FrameBuffer& fb,
+                        AccumulateTile accumulate) const {
     const auto row_width = static_cast<std::size_t>(width);
     std::vector<int> band_of_row(static_cast<std::size_t>(fb.height()));
     for (int r = 0; r < ranks_; ++r) {
       const auto [first, count] = band(r);
       for (std::size_t row = first / row_width; row < (first + count) / row_width; ++row) band_of_row[row] = r;
     }
-    std::vector<float> packed;
-    for (int tile = 0; tile < fb.tile_count(); ++tile) {
-      packed.clear();
+    // Tiles are independent: the owner's threads pack and accumulate them together.
+    tbb::parallel_for(0, fb.tile_count(), [&](int tile) {
+      std::vector<float> packed;
+      packed.reserve(fb.tile_pixels(tile) * static_cast<std::size_t>(fb.packed_floats()));
       const int x0 = (tile % fb.tiles_x()) * tile_size, y0 = (tile / fb.tiles_x()) * tile_size;
       for (int y = y0; y < std::min(y0 + tile_size, fb.height()); ++y) {
         const auto [first, count] = band(band_of_row[static_cast<std::size_t>(y)]);
@@ -220,8 +230,8 @@ private:
           if (fb.has(channel_depth)) packed.insert(packed.end(), {depth[at], depth[at]});
         }
       }
-      fb.accumulate_tile(tile, packed.data());
-    }
+      accumulate(fb, tile, packed.data());
+    });
     fb.finish_frame();
   }
 
@@ -242,6 +252,7 @@ private:
   int owner_;
   int rank_ = 0, ranks_ = 1;
   double timeout_;
+  std::vector<float> outgoing_, incoming_, composited_, bands_;
 };
 
 }  // namespace sciray::mpi

@@ -8,7 +8,9 @@
 // tile order and any accumulated frame.
 //
 // Tiles go out on request, a task queue: a rank asks for a batch, renders it, and sends
-// it back with its next request, so fast ranks take more tiles (dynamic load balancing).
+// it back with its next request, so fast ranks take more tiles (dynamic load balancing);
+// batches start large (half of what is left over the ranks: guided self-scheduling) and
+// shrink to the rank's own size (four tiles a thread) towards the end.
 // With Scheduling::dynamic off, each rank gets one fixed share (every n-th tile).
 // The owner waits for answers at most Scheduling::timeout_seconds since the last one:
 // a rank that died or never took part ends the frame with an error, not a hang.
@@ -26,6 +28,7 @@
 #include <thread>
 #include <vector>
 
+#include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
 #include "sciray/error.hpp"
@@ -71,7 +74,9 @@ inline Scheduling scheduling_from_environment(Scheduling defaults = {}) {
 /// per-ISA kernels): the running means of normal and albedo round as they were compiled,
 /// and the same image on every number of ranks needs the same rounding.
 using AccumulateTile = void (*)(FrameBuffer& fb, int tile, const float* packed);
-inline void accumulate_tile(FrameBuffer& fb, int tile, const float* packed) { fb.accumulate_tile(tile, packed); }
+inline void accumulate_tile(FrameBuffer& fb, int tile, const float* packed) {
+  fb.accumulate_tile<xsimd::default_arch>(tile, packed);
+}
 
 /// What one frame moved: per rank, the tiles it rendered and the bytes it sent the owner.
 struct FrameTraffic {
@@ -191,19 +196,15 @@ inline FrameTraffic serve_frame(MPI_Comm comm, std::uint32_t frame_id, FrameBuff
       throw Error("mpi: frame " + std::to_string(frame_id) + ": rank " + std::to_string(rank) +
                   " sent tiles it was not given, or not whole");
     }
+    // The rank's next batch goes out first: it renders while this one is accumulated.
     const bool cancelled = control && control->cancel.load();
-    const float* next = packed.data();
-    for (const std::int32_t tile : tiles) {
-      if (!cancelled && failure.empty()) accumulate(fb, tile, next);
-      next += fb.tile_pixels(tile) * packed_per_pixel;
-    }
-    accumulated += static_cast<std::uint32_t>(tiles.size());
-    traffic.tiles[r] += static_cast<std::uint32_t>(tiles.size());
-    if (control) control->tiles_done = accumulated;
     in_flight[r].clear();
     if (!cancelled && failure.empty()) {
       if (scheduling.dynamic) {
-        const auto take = std::min(queue.size(), static_cast<std::size_t>(std::max(batch_wanted, 1)));
+        // Guided self-scheduling: large batches while much is left (few round trips),
+        // down to the rank's own batch size at the end (balance).
+        const std::size_t guided = queue.size() / (2 * static_cast<std::size_t>(ranks - 1));
+        const auto take = std::min(queue.size(), std::max(guided, static_cast<std::size_t>(std::max(batch_wanted, 1))));
         in_flight[r].assign(queue.begin(), queue.begin() + static_cast<std::ptrdiff_t>(take));
         queue.erase(queue.begin(), queue.begin() + static_cast<std::ptrdiff_t>(take));
       } else {
@@ -213,6 +214,15 @@ inline FrameTraffic serve_frame(MPI_Comm comm, std::uint32_t frame_id, FrameBuff
     }
     answer(frame_id, in_flight[r]);
     if (in_flight[r].empty()) finished[r] = true, --open;
+    if (!cancelled && failure.empty()) {
+      // Tiles are independent: the owner's threads accumulate them together.
+      std::vector<std::size_t> offsets(tiles.size() + 1, 0);
+      for (std::size_t i = 0; i < tiles.size(); ++i) offsets[i + 1] = offsets[i] + fb.tile_pixels(tiles[i]) * packed_per_pixel;
+      tbb::parallel_for(std::size_t{0}, tiles.size(), [&](std::size_t i) { accumulate(fb, tiles[i], packed.data() + offsets[i]); });
+    }
+    accumulated += static_cast<std::uint32_t>(tiles.size());
+    traffic.tiles[r] += static_cast<std::uint32_t>(tiles.size());
+    if (control) control->tiles_done = accumulated;
   }
   if (control && control->cancel.load()) {
     fb.reset_accumulation();

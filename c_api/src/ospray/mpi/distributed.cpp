@@ -51,7 +51,7 @@ public:
         },
         config);
     compositor_->composite_frame(layers, frame.width(), frame.height(), background,
-                                compositor_->owns_frames() ? &frame : nullptr);
+                                 compositor_->owns_frames() ? &frame : nullptr, built.kernels->accumulate_tile);
   }
 
 private:
