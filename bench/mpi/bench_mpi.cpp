@@ -11,7 +11,6 @@
 // Counters: bytes each rank sent rank 0 per frame (image-parallel), bytes sent per rank
 // (compositing).
 #include <benchmark/benchmark.h>
-
 #include <mpi.h>
 
 #include <chrono>
@@ -76,15 +75,15 @@ constexpr unsigned channels = sciray::channel_color | sciray::channel_depth | sc
 /// One image-parallel frame on every rank (rank 0 owns it).
 sciray::mpi::FrameTraffic image_parallel_frame(MPI_Comm comm, std::uint32_t frame_id, sciray::FrameBuffer& fb) {
   Scene& s = scene();
-  if (rank == 0)
-    return sciray::mpi::serve_frame(comm, frame_id, fb, {}, {}, nullptr, s.kernels->accumulate_tile);
+  if (rank == 0) return sciray::mpi::serve_frame(comm, frame_id, fb, {}, {}, nullptr, s.kernels->accumulate_tile);
   static sciray::FrameBuffer staging = sciray::mpi::staging_for(fb.width(), fb.height(), channels);
   if (staging.width() != fb.width()) staging = sciray::mpi::staging_for(fb.width(), fb.height(), channels);
-  sciray::mpi::work_frame(comm, 0, frame_id, staging,
-                          [&](std::span<const sciray::TileWork> share, sciray::FrameBuffer& staged) {
-                            s.kernels->render_tiles(s.world, s.params, s.camera, staged, share, nullptr, {});
-                          },
-                          32);
+  sciray::mpi::work_frame(
+      comm, 0, frame_id, staging,
+      [&](std::span<const sciray::TileWork> share, sciray::FrameBuffer& staged) {
+        s.kernels->render_tiles(s.world, s.params, s.camera, staged, share, nullptr, {});
+      },
+      32);
   return {};
 }
 
@@ -169,11 +168,20 @@ int main(int argc, char** argv) {
     follow();
   } else {
     for (const int size : {256, 512, 1024}) {
-      benchmark::RegisterBenchmark(("mpi/local/" + std::to_string(size)).c_str(), local_frame)->Arg(size)->Unit(benchmark::kMillisecond)->UseRealTime();
-      benchmark::RegisterBenchmark(("mpi/image_parallel/" + std::to_string(size)).c_str(), image_parallel)->Arg(size)->Unit(benchmark::kMillisecond)->UseRealTime();
+      benchmark::RegisterBenchmark(("mpi/local/" + std::to_string(size)).c_str(), local_frame)
+          ->Arg(size)
+          ->Unit(benchmark::kMillisecond)
+          ->UseRealTime();
+      benchmark::RegisterBenchmark(("mpi/image_parallel/" + std::to_string(size)).c_str(), image_parallel)
+          ->Arg(size)
+          ->Unit(benchmark::kMillisecond)
+          ->UseRealTime();
     }
     for (const int size : {256, 512, 1024, 2048})
-      benchmark::RegisterBenchmark(("mpi/composite/" + std::to_string(size)).c_str(), composite)->Arg(size)->Unit(benchmark::kMillisecond)->UseRealTime();
+      benchmark::RegisterBenchmark(("mpi/composite/" + std::to_string(size)).c_str(), composite)
+          ->Arg(size)
+          ->Unit(benchmark::kMillisecond)
+          ->UseRealTime();
     benchmark::Initialize(&argc, argv);
     benchmark::RunSpecifiedBenchmarks();
     share({Op::stop, 0});

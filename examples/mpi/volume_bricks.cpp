@@ -3,27 +3,30 @@
 // its neighbours), makes a world of it whose `region` is the part of the volume it owns,
 // and renders collectively with the mpiRaycast renderer; rank 0 gets the composited image.
 //
-//   mpirun -n 4 volume_bricks VOLUME.raw OUT.png [--frames N] [--rgba OUT.rgba]
-//                                               [--compare REFERENCE.rgba MAX_RMSE]
+//   mpirun -n 4 volume_bricks VOLUME.raw OUT.png [--frames N] [--isosurface VALUE]
+//                         [--rgba OUT.rgba] [--compare REFERENCE.rgba MAX_RMSE]
 //   volume_bricks VOLUME.raw OUT.png --unsplit ...   (the whole volume on the local device)
 //
+// --isosurface shows the bricks' isosurface at VALUE (surfaces) instead of the volume.
 // --rgba writes rank 0's image as RGBA32F; --compare fails (exit 1) when the image's
 // RMSE against such a file is above MAX_RMSE, the way the tests check that 2, 3 and 4
 // bricks composite to the unsplit image.
-#include <cmath>
-#include <cstdio>
-#include <cstring>
-#include <fstream>
-#include <iostream>
-#include <string>
-#include <vector>
+#include "sciray/distributed/volume_bricks.hpp"
 
 #include <mpi.h>
 #include <ospray/ospray.h>
 #include <ospray/ospray_util.h>
 #include <stb/stb_image_write.h>
 
-#include "sciray/distributed/volume_bricks.hpp"
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <iostream>
+#include <optional>
+#include <string>
+#include <vector>
+
 #include "sciray/io/volume.hpp"
 #include "sciray/math/color.hpp"
 
@@ -45,16 +48,18 @@ struct Brick {
   sciray::Box3f region;
 };
 
-Brick brick_of(const sciray::io::VolumeFile& file, int rank, int ranks) {
+/// `ghost_layers`: 1 for sampling (trilinear), 2 for gradients by central differences
+/// (isosurface normals), which read a voxel further.
+Brick brick_of(const sciray::io::VolumeFile& file, int rank, int ranks, int ghost_layers) {
   if (file.kind != sciray::io::VoxelKind::uint8) throw sciray::Error("volume_bricks reads uint8 volumes");
   const std::span voxels(reinterpret_cast<const std::uint8_t*>(file.voxels->data()), file.voxels->size());
   const auto bricks = sciray::distributed::split_volume(voxels, file.dims, file.grid,
-                                                          sciray::distributed::brick_grid(ranks), 1);
+                                                        sciray::distributed::brick_grid(ranks), ghost_layers);
   const auto& mine = bricks[static_cast<std::size_t>(rank)];
   return {std::vector<float>(mine.voxels->begin(), mine.voxels->end()), mine.dims, mine.grid, mine.region};
 }
 
-OSPWorld make_world(const Brick& brick, bool distributed) {
+OSPWorld make_world(const Brick& brick, bool distributed, std::optional<float> isovalue) {
   OSPVolume volume = ospNewVolume("structuredRegular");
   OSPData data = ospNewSharedData3D(brick.voxels.data(), OSP_FLOAT, static_cast<uint64_t>(brick.dims[0]),
                                     static_cast<uint64_t>(brick.dims[1]), static_cast<uint64_t>(brick.dims[2]));
@@ -81,13 +86,26 @@ OSPWorld make_world(const Brick& brick, bool distributed) {
   ospSetObject(model, "transferFunction", tf);
   ospSetFloat(model, "densityScale", 0.3f);
   ospCommit(model);
-  ospRelease(volume);
   ospRelease(tf);
 
   OSPGroup group = ospNewGroup();
-  ospSetObjectAsData(group, "volume", OSP_VOLUMETRIC_MODEL, model);
+  if (isovalue) {
+    OSPGeometry surface = ospNewGeometry("isosurface");
+    ospSetObject(surface, "volume", volume);
+    ospSetFloat(surface, "isovalue", *isovalue);
+    ospCommit(surface);
+    OSPGeometricModel surface_model = ospNewGeometricModel(surface);
+    ospSetVec4f(surface_model, "color", 1.f, 0.7f, 0.3f, 1.f);
+    ospCommit(surface_model);
+    ospSetObjectAsData(group, "geometry", OSP_GEOMETRIC_MODEL, surface_model);
+    ospRelease(surface_model);
+    ospRelease(surface);
+  } else {
+    ospSetObjectAsData(group, "volume", OSP_VOLUMETRIC_MODEL, model);
+  }
   ospCommit(group);
   ospRelease(model);
+  ospRelease(volume);
   OSPInstance instance = ospNewInstance(group);
   ospCommit(instance);
   ospRelease(group);
@@ -128,19 +146,27 @@ int main(int argc, char** argv) {
   std::vector<std::string> args(argv + 1, argv + argc);
   if (args.size() < 2) {
     std::cerr << "usage: volume_bricks VOLUME.raw OUT.png [--frames N] [--rgba OUT.rgba] "
-                 "[--compare REFERENCE.rgba MAX_RMSE] [--unsplit]\n";
+                 "[--compare REFERENCE.rgba MAX_RMSE] [--isosurface VALUE] [--unsplit]\n";
     return 2;
   }
   int frames = 2;
   bool distributed = true;
+  std::optional<float> isovalue;
   std::string rgba_out, compare_with;
   double max_rmse = 0.0;
   for (std::size_t i = 2; i < args.size(); ++i) {
-    if (args[i] == "--frames" && i + 1 < args.size()) frames = std::stoi(args[++i]);
-    else if (args[i] == "--rgba" && i + 1 < args.size()) rgba_out = args[++i];
-    else if (args[i] == "--compare" && i + 2 < args.size()) compare_with = args[++i], max_rmse = std::stod(args[++i]);
-    else if (args[i] == "--unsplit") distributed = false;
-    else return std::cerr << "volume_bricks: unknown argument " << args[i] << "\n", 2;
+    if (args[i] == "--frames" && i + 1 < args.size())
+      frames = std::stoi(args[++i]);
+    else if (args[i] == "--rgba" && i + 1 < args.size())
+      rgba_out = args[++i];
+    else if (args[i] == "--compare" && i + 2 < args.size())
+      compare_with = args[++i], max_rmse = std::stod(args[++i]);
+    else if (args[i] == "--isosurface" && i + 1 < args.size())
+      isovalue = std::stof(args[++i]);
+    else if (args[i] == "--unsplit")
+      distributed = false;
+    else
+      return std::cerr << "volume_bricks: unknown argument " << args[i] << "\n", 2;
   }
   if (!distributed && ranks > 1) return std::cerr << "volume_bricks: --unsplit renders on one process\n", 2;
 
@@ -154,10 +180,11 @@ int main(int argc, char** argv) {
   int status = 0;
   try {
     const auto file = sciray::io::read_volume(args[0]);
-    const Brick brick = brick_of(file, rank, ranks);
-    OSPWorld world = make_world(brick, distributed);
+    const Brick brick = brick_of(file, rank, ranks, isovalue ? 2 : 1);
+    OSPWorld world = make_world(brick, distributed, isovalue);
 
-    const sciray::Vec3f size = sciray::Vec3f{float(file.dims[0]), float(file.dims[1]), float(file.dims[2])} * file.grid.spacing;
+    const sciray::Vec3f size =
+        sciray::Vec3f{float(file.dims[0]), float(file.dims[1]), float(file.dims[2])} * file.grid.spacing;
     const sciray::Vec3f center = file.grid.origin + size * 0.5f;
     OSPCamera camera = ospNewCamera("perspective");
     // Oblique to every brick border.
@@ -193,8 +220,7 @@ int main(int argc, char** argv) {
               .write(reinterpret_cast<const char*>(image), static_cast<std::streamsize>(16) * width * height);
         if (!compare_with.empty()) {
           const double error = rmse(image, compare_with);
-          std::printf("%d brick(s): RMSE %.6f against %s (at most %g)\n", ranks, error, compare_with.c_str(),
-                      max_rmse);
+          std::printf("%d brick(s): RMSE %.6f against %s (at most %g)\n", ranks, error, compare_with.c_str(), max_rmse);
           if (!(error <= max_rmse)) status = 1;
         }
         ospUnmapFrameBuffer(image, fb);

@@ -56,11 +56,12 @@ public:
       if (fb.has(sciray::channel_depth)) channels |= sciray::channel_depth;
       staging_.emplace(sciray::mpi::staging_for(fb.width(), fb.height(), channels));
     }
-    sciray::mpi::work_frame(comm_, 0, frame_id, *staging_,
-                            [&](std::span<const sciray::TileWork> share, sciray::FrameBuffer& staged) {
-                              kernels.render_tiles(world, config, camera, staged, share, nullptr, settings);
-                            },
-                            4 * threads);
+    sciray::mpi::work_frame(
+        comm_, 0, frame_id, *staging_,
+        [&](std::span<const sciray::TileWork> share, sciray::FrameBuffer& staged) {
+          kernels.render_tiles(world, config, camera, staged, share, nullptr, settings);
+        },
+        4 * threads);
   }
 
 private:

@@ -21,4 +21,7 @@ timeout 60 mpirun --oversubscribe -x SCIRAY_MPI_TIMEOUT=2 -n 2 "$program" skip >
 expect skip "error: ospRenderFrame: mpi: .* did not complete within 2.0* s"
 elapsed=$(($(date +%s) - start))
 if ((elapsed > 30)); then echo "FAILED: skip took ${elapsed} s, expected about the 2 s timeout" >&2; failed=1; fi
+
+timeout 60 mpirun --oversubscribe -n 2 "$program" overlap >"$out/overlap.log" 2>&1
+expect overlap "error: ospRenderFrame: mpiDistributed: the regions of ranks 0 and 1 overlap"
 exit $failed

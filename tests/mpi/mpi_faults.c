@@ -6,6 +6,7 @@
                            ospRenderFrame returns (the application may call MPI right away)
      mpi_faults skip       mpiDistributed, rank 1 skips the frame rank 0 renders: rank 0's
                            frame ends with an error within SCIRAY_MPI_TIMEOUT, no deadlock
+     mpi_faults overlap    mpiDistributed, both ranks claim the same region: an error
 
    Prints "error: MESSAGE" for each OSPRay error and "ready: N" for ospIsReady after the frame. */
 #include <mpi.h>
@@ -31,8 +32,9 @@ static void use_device(const char *type) {
   ospDeviceRelease(device);
 }
 
-/* A one-sphere world, framed, and a frame. */
-static void render_one_frame(int rank) {
+/* A one-sphere world, framed, and a frame; each rank owns a slab of its own, or with
+   `overlap` all own the same box. */
+static void render_one_frame(int rank, int overlap) {
   const float center[3] = {0.f, 0.f, 0.f};
   const float region[6] = {-1.f, -1.f, -1.f, 1.f, 1.f, 1.f};
   OSPGeometry sphere = ospNewGeometry("sphere");
@@ -57,11 +59,10 @@ static void render_one_frame(int rank) {
   ospCommit(instance);
   world = ospNewWorld();
   ospSetObjectAsData(world, "instance", OSP_INSTANCE, instance);
-  /* Each rank owns a slab of its own. */
   {
     float mine[6];
     memcpy(mine, region, sizeof mine);
-    mine[0] = -1.f + (float)rank, mine[3] = (float)rank;
+    if (!overlap) mine[0] = -1.f + (float)rank, mine[3] = (float)rank;
     data = ospNewSharedData1D(mine, OSP_BOX3F, 1);
     ospSetObject(world, "region", data);
     ospRelease(data);
@@ -102,18 +103,24 @@ int main(int argc, char **argv) {
   } else if (strcmp(mode, "serialized") == 0) {
     MPI_Init_thread(&argc, &argv, MPI_THREAD_SERIALIZED, &level);
     use_device("mpiOffload");
-    render_one_frame(0);
+    render_one_frame(0, 0);
     ospShutdown();
   } else if (strcmp(mode, "skip") == 0) {
     MPI_Init_thread(&argc, &argv, MPI_THREAD_MULTIPLE, &level);
     MPI_Comm_rank(MPI_COMM_WORLD, &rank);
     use_device("mpiDistributed");
-    if (rank == 0) render_one_frame(0);
+    if (rank == 0) render_one_frame(0, 0);
     /* The frame rank 1 skipped is still pending on rank 0: end the job here. */
     MPI_Barrier(MPI_COMM_WORLD);
     if (rank == 0) MPI_Abort(MPI_COMM_WORLD, 0);
+  } else if (strcmp(mode, "overlap") == 0) {
+    MPI_Init_thread(&argc, &argv, MPI_THREAD_MULTIPLE, &level);
+    MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+    use_device("mpiDistributed");
+    render_one_frame(rank, 1);
+    ospShutdown();
   } else {
-    fprintf(stderr, "usage: mpi_faults funneled|serialized|skip\n");
+    fprintf(stderr, "usage: mpi_faults funneled|serialized|skip|overlap\n");
     return 2;
   }
   MPI_Finalize();

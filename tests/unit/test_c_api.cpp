@@ -68,6 +68,13 @@ TEST_CASE("device parameters, callbacks with user pointers and the last error", 
   CHECK(mine.errors.size() == 1);
   CHECK(ospNewGeometry("teapot") == nullptr);
   CHECK(mine.any_error_containing("unknown geometry type 'teapot'"));
+  // Wrong device and module names list what exists.
+  CHECK(ospNewDevice("gpu") == nullptr);
+  CHECK(mine.any_error_containing("unknown device type 'gpu' (sciray provides: cpu, mpiOffload, mpiDistributed)"));
+  CHECK(ospLoadModule("denoiser") == OSP_INVALID_ARGUMENT);
+  CHECK(mine.any_error_containing("module 'denoiser' does not exist: sciray's types are built in (modules cpu, "
+                                  "mpi_offload, mpi_distributed_cpu)"));
+  CHECK(ospLoadModule("mpi_distributed_cpu") == OSP_NO_ERROR);
   ospDeviceRetain(d);
   ospDeviceRelease(d);
   ospDeviceRelease(d);

@@ -473,7 +473,8 @@ void ospCommit(OSPObject object) {
     report_unused(o, o.commit());
     if (offload::CommandLog* log = forwarding()) {
       // Committing an array that shares the application's memory says the memory changed.
-      if (o.kind() == OSP_DATA && static_cast<Data&>(o).shares_memory()) log->update_data(object, static_cast<Data&>(o));
+      if (o.kind() == OSP_DATA && static_cast<Data&>(o).shares_memory())
+        log->update_data(object, static_cast<Data&>(o));
       log->commit(object);
     }
   });

@@ -13,6 +13,7 @@
 // does not take part in a frame (mismatched collective calls, a dead rank) ends the
 // frame with an error naming what did not complete, not a deadlock.
 #include <mpi.h>
+#include <tbb/parallel_for.h>
 
 #include <chrono>
 #include <cmath>
@@ -21,8 +22,6 @@
 #include <string>
 #include <thread>
 #include <vector>
-
-#include <tbb/parallel_for.h>
 
 #include "sciray/distributed/fragments.hpp"
 #include "sciray/frame/framebuffer.hpp"
@@ -81,7 +80,8 @@ public:
     check(MPI_Iallgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, comm_, &request), "MPI_Iallgather");
     wait(request, "sharing the ranks' regions");
     int total = 0;
-    for (int r = 0; r < ranks_; ++r) offsets[static_cast<std::size_t>(r)] = total, total += counts[static_cast<std::size_t>(r)];
+    for (int r = 0; r < ranks_; ++r)
+      offsets[static_cast<std::size_t>(r)] = total, total += counts[static_cast<std::size_t>(r)];
     std::vector<float> boxes(static_cast<std::size_t>(total));
     check(MPI_Iallgatherv(mine.data(), count, MPI_FLOAT, boxes.data(), counts.data(), offsets.data(), MPI_FLOAT, comm_,
                           &request),
@@ -89,7 +89,8 @@ public:
     wait(request, "sharing the ranks' regions");
     std::vector<std::vector<Box3f>> all(static_cast<std::size_t>(ranks_));
     for (int r = 0; r < ranks_; ++r)
-      for (int at = offsets[static_cast<std::size_t>(r)]; at < offsets[static_cast<std::size_t>(r)] + counts[static_cast<std::size_t>(r)]; at += 6) {
+      for (int at = offsets[static_cast<std::size_t>(r)];
+           at < offsets[static_cast<std::size_t>(r)] + counts[static_cast<std::size_t>(r)]; at += 6) {
         const float* b = &boxes[static_cast<std::size_t>(at)];
         all[static_cast<std::size_t>(r)].push_back({{b[0], b[1], b[2]}, {b[3], b[4], b[5]}});
       }
@@ -134,15 +135,18 @@ public:
         outgoing.insert(outgoing.end(), layer.depth.begin() + static_cast<std::ptrdiff_t>(first),
                         layer.depth.begin() + static_cast<std::ptrdiff_t>(first + count));
       }
-      send_counts[static_cast<std::size_t>(r)] = static_cast<int>(outgoing.size()) - send_offsets[static_cast<std::size_t>(r)];
+      send_counts[static_cast<std::size_t>(r)] =
+          static_cast<int>(outgoing.size()) - send_offsets[static_cast<std::size_t>(r)];
     }
-    std::vector<int> receive_counts(static_cast<std::size_t>(ranks_)), receive_offsets(static_cast<std::size_t>(ranks_));
+    std::vector<int> receive_counts(static_cast<std::size_t>(ranks_)),
+        receive_offsets(static_cast<std::size_t>(ranks_));
     MPI_Request request;
     check(MPI_Ialltoall(send_counts.data(), 1, MPI_INT, receive_counts.data(), 1, MPI_INT, comm_, &request),
           "MPI_Ialltoall");
     wait(request, "exchanging fragment counts");
     int total = 0;
-    for (int r = 0; r < ranks_; ++r) receive_offsets[static_cast<std::size_t>(r)] = total, total += receive_counts[static_cast<std::size_t>(r)];
+    for (int r = 0; r < ranks_; ++r)
+      receive_offsets[static_cast<std::size_t>(r)] = total, total += receive_counts[static_cast<std::size_t>(r)];
     std::vector<float>& incoming = incoming_;
     incoming.resize(static_cast<std::size_t>(total));
     check(MPI_Ialltoallv(outgoing.data(), send_counts.data(), send_offsets.data(), MPI_FLOAT, incoming.data(),
@@ -180,7 +184,8 @@ public:
     for (int r = 0; r < ranks_; ++r)
       if (r != rank_)
         traffic.bytes_sent += sizeof(float) * static_cast<std::uint64_t>(send_counts[static_cast<std::size_t>(r)]),
-            traffic.bytes_received += sizeof(float) * static_cast<std::uint64_t>(receive_counts[static_cast<std::size_t>(r)]);
+            traffic.bytes_received +=
+            sizeof(float) * static_cast<std::uint64_t>(receive_counts[static_cast<std::size_t>(r)]);
     if (!owns_frames()) {
       traffic.bytes_sent += sizeof(float) * composited.size();
       return traffic;
@@ -199,8 +204,9 @@ private:
                   ", the frame " + std::to_string(width) + "x" + std::to_string(height));
     for (Channel c : {channel_normal, channel_albedo, channel_id_primitive, channel_id_object, channel_id_instance})
       if (fb->has(c))
-        throw Error("mpi: data-parallel frames composite colour and depth only; the frame buffer asks for normal, "
-                    "albedo or id channels");
+        throw Error(
+            "mpi: data-parallel frames composite colour and depth only; the frame buffer asks for normal, "
+            "albedo or id channels");
   }
 
   /// Writes the gathered image (band r: its pixels' rgba, then their depths) into `fb`

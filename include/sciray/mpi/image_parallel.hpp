@@ -15,6 +15,8 @@
 // The owner waits for answers at most Scheduling::timeout_seconds since the last one:
 // a rank that died or never took part ends the frame with an error, not a hang.
 #include <mpi.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <chrono>
@@ -27,9 +29,6 @@
 #include <string>
 #include <thread>
 #include <vector>
-
-#include <tbb/parallel_for.h>
-#include <tbb/task_arena.h>
 
 #include "sciray/error.hpp"
 #include "sciray/frame/framebuffer.hpp"
@@ -217,8 +216,10 @@ inline FrameTraffic serve_frame(MPI_Comm comm, std::uint32_t frame_id, FrameBuff
     if (!cancelled && failure.empty()) {
       // Tiles are independent: the owner's threads accumulate them together.
       std::vector<std::size_t> offsets(tiles.size() + 1, 0);
-      for (std::size_t i = 0; i < tiles.size(); ++i) offsets[i + 1] = offsets[i] + fb.tile_pixels(tiles[i]) * packed_per_pixel;
-      tbb::parallel_for(std::size_t{0}, tiles.size(), [&](std::size_t i) { accumulate(fb, tiles[i], packed.data() + offsets[i]); });
+      for (std::size_t i = 0; i < tiles.size(); ++i)
+        offsets[i + 1] = offsets[i] + fb.tile_pixels(tiles[i]) * packed_per_pixel;
+      tbb::parallel_for(std::size_t{0}, tiles.size(),
+                        [&](std::size_t i) { accumulate(fb, tiles[i], packed.data() + offsets[i]); });
     }
     accumulated += static_cast<std::uint32_t>(tiles.size());
     traffic.tiles[r] += static_cast<std::uint32_t>(tiles.size());
@@ -266,8 +267,7 @@ inline void work_frame(MPI_Comm comm, int owner, std::uint32_t frame_id, FrameBu
     int size = 0;
     check(MPI_Get_count(&status, MPI_BYTE, &size), "MPI_Get_count");
     buffer.resize(static_cast<std::size_t>(size));
-    check(MPI_Recv(buffer.data(), size, MPI_BYTE, owner, detail::tag_work, comm, MPI_STATUS_IGNORE),
-          "receiving tiles");
+    check(MPI_Recv(buffer.data(), size, MPI_BYTE, owner, detail::tag_work, comm, MPI_STATUS_IGNORE), "receiving tiles");
     Reader reply(buffer);
     if (reply.get<std::uint32_t>() != frame_id) continue;  // an answer to an abandoned frame
     const auto share = reply.get_vector<TileWork>();
@@ -331,21 +331,22 @@ public:
     if (!staging_ || staging_->width() != fb.width() || staging_->height() != fb.height() ||
         staging_->packed_floats() != fb.packed_floats())
       staging_.emplace(staging_for(fb.width(), fb.height(), channels_of(fb)));
-    const int batch = scheduling_.batch_tiles > 0 ? scheduling_.batch_tiles
-                                                  : 4 * tbb::this_task_arena::max_concurrency();
-    work_frame(comm_, owner_, frame_id, *staging_,
-               [&](std::span<const TileWork> share, FrameBuffer& staging) {
-                 render_tiles<Arch>(renderer, camera, staging, share, nullptr, settings);
-               },
-               batch);
+    const int batch =
+        scheduling_.batch_tiles > 0 ? scheduling_.batch_tiles : 4 * tbb::this_task_arena::max_concurrency();
+    work_frame(
+        comm_, owner_, frame_id, *staging_,
+        [&](std::span<const TileWork> share, FrameBuffer& staging) {
+          render_tiles<Arch>(renderer, camera, staging, share, nullptr, settings);
+        },
+        batch);
     return {};
   }
 
 private:
   static unsigned channels_of(const FrameBuffer& fb) {
     unsigned channels = 0;
-    for (Channel c : {channel_depth, channel_normal, channel_albedo, channel_id_primitive, channel_id_object,
-                      channel_id_instance})
+    for (Channel c :
+         {channel_depth, channel_normal, channel_albedo, channel_id_primitive, channel_id_object, channel_id_instance})
       if (fb.has(c)) channels |= c;
     return channels;
   }

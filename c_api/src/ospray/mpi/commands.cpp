@@ -23,7 +23,9 @@ enum class Call : std::uint8_t {
   shutdown,
 };
 
-std::uint64_t id_of(const void* handle) { return reinterpret_cast<std::uintptr_t>(handle); }
+std::uint64_t id_of(const void* handle) {
+  return reinterpret_cast<std::uintptr_t>(handle);
+}
 
 /// The array's elements, compacted, the first dimension fastest.
 std::vector<std::byte> compact_elements(const Data& data) {

@@ -7,6 +7,8 @@
 // compacted, when created (and again when the application commits one it shares, the
 // way to tell OSPRay its memory changed). Handles travel as the application rank's values;
 // each worker maps them to its own objects.
+#include <ospray/ospray.h>
+
 #include <cstdint>
 #include <functional>
 #include <mutex>
@@ -14,8 +16,6 @@
 #include <string>
 #include <unordered_map>
 #include <vector>
-
-#include <ospray/ospray.h>
 
 #include "sciray/mpi/wire.hpp"
 
@@ -31,8 +31,7 @@ public:
   void new_object(OSPDataType kind, const std::string& type, const void* handle);
   /// ospNewGeometricModel, ospNewVolumetricModel, ospNewInstance of `content` (may be NULL).
   void new_holder(OSPDataType kind, const void* handle, const void* content);
-  void new_frame_buffer(const void* handle, int width, int height, OSPFrameBufferFormat format,
-                        std::uint32_t channels);
+  void new_frame_buffer(const void* handle, int width, int height, OSPFrameBufferFormat format, std::uint32_t channels);
   /// ospNewData / ospNewSharedData: the array's elements, compacted.
   void new_data(const void* handle, const Data& data);
   /// The application committed a shared array: its elements may have changed.

@@ -73,6 +73,8 @@ private:
 
 }  // namespace
 
-std::unique_ptr<Session> start() { return std::make_unique<MpiSession>(mpi_runtime::initialize()); }
+std::unique_ptr<Session> start() {
+  return std::make_unique<MpiSession>(mpi_runtime::initialize());
+}
 
 }  // namespace sciray::ospray::distributed

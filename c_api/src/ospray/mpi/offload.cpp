@@ -25,15 +25,18 @@ void broadcast(MPI_Comm comm, std::vector<std::byte>& batch) {
   batch.resize(size);
   constexpr std::uint64_t chunk = std::uint64_t{1} << 30;  // MPI counts are ints
   for (std::uint64_t at = 0; at < size; at += chunk)
-    mpi::check(MPI_Bcast(batch.data() + at, static_cast<int>(std::min(chunk, size - at)), MPI_BYTE, application_rank,
-                         comm),
-               "broadcasting commands");
+    mpi::check(
+        MPI_Bcast(batch.data() + at, static_cast<int>(std::min(chunk, size - at)), MPI_BYTE, application_rank, comm),
+        "broadcasting commands");
 }
 
 class MpiSession final : public Session {
 public:
   MpiSession(bool finalize, int thread_level, MPI_Comm commands, MPI_Comm tiles)
-      : finalize_(finalize), thread_level_(thread_level), commands_(commands), tiles_(tiles),
+      : finalize_(finalize),
+        thread_level_(thread_level),
+        commands_(commands),
+        tiles_(tiles),
         scheduling_(mpi::scheduling_from_environment()) {}
 
   ~MpiSession() override {
@@ -103,8 +106,8 @@ void run_worker(Device& device, MPI_Comm commands, MPI_Comm tiles, const mpi::Sc
     auto& world = *static_cast<World*>(reinterpret_cast<Object*>(world_handle));
     const FrameBuffer& shape = fb.frame();
     auto found = staging.find(fb_handle);
-    if (found == staging.end() || found->second.width() != shape.width() ||
-        found->second.height() != shape.height() || found->second.packed_floats() != shape.packed_floats()) {
+    if (found == staging.end() || found->second.width() != shape.width() || found->second.height() != shape.height() ||
+        found->second.packed_floats() != shape.packed_floats()) {
       staging.erase(fb_handle);
       found = staging.emplace(fb_handle, mpi::staging_for(shape.width(), shape.height(), fb.channels())).first;
     }
@@ -119,7 +122,8 @@ void run_worker(Device& device, MPI_Comm commands, MPI_Comm tiles, const mpi::Sc
                                    renderer.frame_settings());
     };
     const int batch = scheduling.batch_tiles > 0 ? scheduling.batch_tiles : 4 * device.threads();
-    device.arena().execute([&] { mpi::work_frame(tiles, application_rank, frame_id, found->second, render_share, batch); });
+    device.arena().execute(
+        [&] { mpi::work_frame(tiles, application_rank, frame_id, found->second, render_share, batch); });
   };
   for (;;) {
     std::vector<std::byte> batch;
@@ -141,8 +145,9 @@ std::unique_ptr<Session> start(Device& device, const std::function<void()>& make
   mpi::check(MPI_Comm_size(MPI_COMM_WORLD, &ranks), "MPI_Comm_size");
   mpi::check(MPI_Comm_rank(MPI_COMM_WORLD, &rank), "MPI_Comm_rank");
   if (ranks < 2)
-    throw Error("mpiOffload: this job has 1 rank; the device needs the application's rank and at least one worker "
-                "(mpirun -n 3 PROGRAM ..., or mpirun -n 1 PROGRAM : -n 2 sciray_mpi_worker)");
+    throw Error(
+        "mpiOffload: this job has 1 rank; the device needs the application's rank and at least one worker "
+        "(mpirun -n 3 PROGRAM ..., or mpirun -n 1 PROGRAM : -n 2 sciray_mpi_worker)");
   MPI_Comm commands = MPI_COMM_NULL, tiles = MPI_COMM_NULL;
   mpi::check(MPI_Comm_dup(MPI_COMM_WORLD, &commands), "MPI_Comm_dup");
   mpi::check(MPI_Comm_dup(MPI_COMM_WORLD, &tiles), "MPI_Comm_dup");
