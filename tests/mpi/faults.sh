@@ -24,4 +24,8 @@ if ((elapsed > 30)); then echo "FAILED: skip took ${elapsed} s, expected about t
 
 timeout 60 mpirun --oversubscribe -n 2 "$program" overlap >"$out/overlap.log" 2>&1
 expect overlap "error: ospRenderFrame: mpiDistributed: the regions of ranks 0 and 1 overlap"
+
+timeout 60 mpirun --oversubscribe -n 2 "$program" multiple >"$out/multiple.log" 2>&1
+expect multiple "^frame done after [0-9]* MPI calls of the application$"
+if grep -q "^error" "$out/multiple.log"; then cat "$out/multiple.log"; echo "FAILED: multiple reported an error" >&2; failed=1; fi
 exit $failed

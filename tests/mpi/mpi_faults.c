@@ -7,6 +7,8 @@
      mpi_faults skip       mpiDistributed, rank 1 skips the frame rank 0 renders: rank 0's
                            frame ends with an error within SCIRAY_MPI_TIMEOUT, no deadlock
      mpi_faults overlap    mpiDistributed, both ranks claim the same region: an error
+     mpi_faults multiple   MPI at MPI_THREAD_MULTIPLE: the application calls MPI while an
+                           mpiOffload frame renders on its own thread
 
    Prints "error: MESSAGE" for each OSPRay error and "ready: N" for ospIsReady after the frame. */
 #include <mpi.h>
@@ -33,8 +35,9 @@ static void use_device(const char *type) {
 }
 
 /* A one-sphere world, framed, and a frame; each rank owns a slab of its own, or with
-   `overlap` all own the same box. */
-static void render_one_frame(int rank, int overlap) {
+   `overlap` all own the same box. With `call_mpi`, the application calls MPI until the
+   frame is done. */
+static void render_one_frame(int rank, int overlap, int call_mpi) {
   const float center[3] = {0.f, 0.f, 0.f};
   const float region[6] = {-1.f, -1.f, -1.f, 1.f, 1.f, 1.f};
   OSPGeometry sphere = ospNewGeometry("sphere");
@@ -78,6 +81,11 @@ static void render_one_frame(int rank, int overlap) {
   ospCommit(fb);
   future = ospRenderFrame(fb, renderer, camera, world);
   printf("ready: %d\n", future ? ospIsReady(future, OSP_TASK_FINISHED) : -1);
+  if (call_mpi && future) {
+    int calls = 0;
+    while (!ospIsReady(future, OSP_TASK_FINISHED)) MPI_Barrier(MPI_COMM_SELF), ++calls;
+    printf("frame done after %d MPI calls of the application\n", calls);
+  }
   fflush(stdout);
   if (future) {
     ospWait(future, OSP_TASK_FINISHED);
@@ -103,13 +111,13 @@ int main(int argc, char **argv) {
   } else if (strcmp(mode, "serialized") == 0) {
     MPI_Init_thread(&argc, &argv, MPI_THREAD_SERIALIZED, &level);
     use_device("mpiOffload");
-    render_one_frame(0, 0);
+    render_one_frame(0, 0, 0);
     ospShutdown();
   } else if (strcmp(mode, "skip") == 0) {
     MPI_Init_thread(&argc, &argv, MPI_THREAD_MULTIPLE, &level);
     MPI_Comm_rank(MPI_COMM_WORLD, &rank);
     use_device("mpiDistributed");
-    if (rank == 0) render_one_frame(0, 0);
+    if (rank == 0) render_one_frame(0, 0, 0);
     /* The frame rank 1 skipped is still pending on rank 0: end the job here. */
     MPI_Barrier(MPI_COMM_WORLD);
     if (rank == 0) MPI_Abort(MPI_COMM_WORLD, 0);
@@ -117,10 +125,15 @@ int main(int argc, char **argv) {
     MPI_Init_thread(&argc, &argv, MPI_THREAD_MULTIPLE, &level);
     MPI_Comm_rank(MPI_COMM_WORLD, &rank);
     use_device("mpiDistributed");
-    render_one_frame(rank, 1);
+    render_one_frame(rank, 1, 0);
+    ospShutdown();
+  } else if (strcmp(mode, "multiple") == 0) {
+    MPI_Init_thread(&argc, &argv, MPI_THREAD_MULTIPLE, &level);
+    use_device("mpiOffload");
+    render_one_frame(0, 0, 1);
     ospShutdown();
   } else {
-    fprintf(stderr, "usage: mpi_faults funneled|serialized|skip|overlap\n");
+    fprintf(stderr, "usage: mpi_faults funneled|serialized|skip|overlap|multiple\n");
     return 2;
   }
   MPI_Finalize();
