@@ -39,7 +39,6 @@ public:
   std::vector<std::byte>& bytes() { return buffer_; }
   const std::byte* data() const { return buffer_.data(); }
   std::size_t size() const { return buffer_.size(); }
-  bool empty() const { return buffer_.empty(); }
   void clear() { buffer_.clear(); }
 
 private:
