@@ -181,11 +181,12 @@ public:
     wait(request, "gathering the composited bands");
 
     CompositeTraffic traffic;
-    for (int r = 0; r < ranks_; ++r)
-      if (r != rank_)
-        traffic.bytes_sent += sizeof(float) * static_cast<std::uint64_t>(send_counts[static_cast<std::size_t>(r)]),
-            traffic.bytes_received +=
-            sizeof(float) * static_cast<std::uint64_t>(receive_counts[static_cast<std::size_t>(r)]);
+    for (int r = 0; r < ranks_; ++r) {
+      if (r == rank_) continue;
+      const auto at = static_cast<std::size_t>(r);
+      traffic.bytes_sent += sizeof(float) * static_cast<std::uint64_t>(send_counts[at]);
+      traffic.bytes_received += sizeof(float) * static_cast<std::uint64_t>(receive_counts[at]);
+    }
     if (!owns_frames()) {
       traffic.bytes_sent += sizeof(float) * composited.size();
       return traffic;
