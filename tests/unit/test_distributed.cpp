@@ -372,3 +372,30 @@ TEST_CASE("brick grids, box splits and bad arguments", "[distributed]") {
                                             {{-1.f, -1.f, -1.f}, {1.f, 1.f, 1.f}}, {}, {}, fragment),
                     Catch::Contains("path tracer cannot render a region"));
 }
+
+TEST_CASE("mpiRaycast adds a surface's whole colour and reads opacity from the material alone", "[distributed]") {
+  // OSPRay's DistributedRaycast blends (colour, d) as out + (1 - out.a) * (colour, d), not
+  // d * colour, and takes d from the material, not from the geometry colour's alpha. A quad
+  // of kd 0.5, d 0.5 and colour alpha 0.25 seen straight on (|n.w| = 1) over black:
+  // mpiRaycast 0.5 with alpha 0.5; ao 0.5 * (0.5 * 0.25) with alpha 0.125.
+  TestWorld scene;
+  MeshData quad = quads({square(2.f, 0.f)}, {{1.f, 1.f, 1.f}});
+  quad.face_colors[3] = 0.25f;
+  scene.world.add(TriangleMesh(std::move(quad)), 0);
+  kernels().commit(scene.world);
+  const Camera camera = top_view(0.f, 0.f, 1.f, 2.f);
+  const auto centre = [&](AOParams params) {
+    params.materials = {ObjMaterial{.kd = {0.5f, 0.5f, 0.5f}, .d = 0.5f}};
+    FrameBuffer fb(4, 4, ColorFormat::rgba32f, channel_color);
+    kernels().render(scene.world, params, camera, fb, nullptr, point_sampled());
+    return std::pair{fb.color32f()[4 * 5], fb.color32f()[4 * 5 + 3]};
+  };
+  const auto [raycast, raycast_alpha] = centre(distributed::mpi_raycast_params());
+  CHECK(raycast == Approx(0.5f).margin(1e-6));
+  CHECK(raycast_alpha == Approx(0.5f).margin(1e-6));
+  AOParams ao;
+  ao.ao_samples = 0;
+  const auto [plain, plain_alpha] = centre(ao);
+  CHECK(plain == Approx(0.0625f).margin(1e-6));
+  CHECK(plain_alpha == Approx(0.125f).margin(1e-6));
+}

@@ -4,8 +4,11 @@
 //  - surfaces: an eye light, the colour (geometry colour times material kd) times |n·ω|,
 //    times the unoccluded fraction of `aoSamples` cosine-weighted AO rays within
 //    `aoDistance` (AO rays see all the data the rank holds, not only its region);
-//    opacity d lets 1 − d through, untinted. No lights: OSPRay reads `shadows` but its
-//    light loop is compiled out.
+//    the whole colour is added (not d times it) and 1 − d of what lies behind shows
+//    through, d the material's alone (the geometry colour's alpha is not opacity), as
+//    OSPRay blends (colour, d); with these, OSPRay's own data-parallel scenes of
+//    transparent spheres and isosurfaces match its images. No lights: OSPRay reads
+//    `shadows` but its light loop is compiled out.
 //  - volumes: emission-absorption along the ray, unlit, over the region's interval.
 //  - defaults: aoSamples 0 (ao's is 1), aoDistance 1e20, volumeSamplingRate 1.
 // What differs from OSPRay's, knowingly: OSPRay jitters each pixel's volume samples and
@@ -23,6 +26,8 @@ inline AOParams mpi_raycast_params() {
   params.ao_samples = 0;
   params.ao_distance = 1e20f;
   params.ao_intensity = 1.f;
+  params.color_alpha_is_opacity = false;
+  params.opacity_weights_color = false;
   return params;
 }
 

@@ -43,6 +43,9 @@ namespace sciray {
 /// unless `sample_lens_and_shutter` is set.
 struct LocalRendererParams : RendererParams {
   bool sample_lens_and_shutter = false;
+  /// Whether the geometry colours' alpha is opacity (as OSPRay's scivis and ao read it;
+  /// its data-parallel mpiRaycast takes opacity from the material's `d` alone).
+  bool color_alpha_is_opacity = true;
 };
 
 struct SciVisParams : LocalRendererParams {
@@ -59,6 +62,10 @@ struct AOParams : LocalRendererParams {
   int ao_samples = 1;
   float ao_distance = 1e20f;
   float ao_intensity = 1.f;  ///< aoIntensity
+  /// Whether a surface of opacity d adds d times its colour (ao's over operator), or, as
+  /// OSPRay's data-parallel mpiRaycast does, its whole colour; either way 1 - d of what lies
+  /// behind shows through.
+  bool opacity_weights_color = true;
 };
 
 namespace detail {
@@ -377,7 +384,7 @@ private:
     const bool has_material = material != no_material;
     const ObjMaterial& m = has_material ? surfaces_[material] : default_surface;
     ObjLanes o = obj_lanes(m, material, s.uv, lanes);
-    o.d = o.d * s.alpha;  // the colour's alpha is opacity too, as in OSPRay
+    if (params_.color_alpha_is_opacity) o.d = o.d * s.alpha;
     // Both sides of a surface are lit: the geometric normal faces the viewer and, as in
     // OSPRay, the shading normal lies on its side.
     const Vec3<F> ng = select(dot(ng_raw, ray.dir) >= F(0.f), -ng_raw, ng_raw);
@@ -404,7 +411,8 @@ private:
       if (params_.ao_samples > 0 && params_.ao_intensity > 0.01f)  // OSPRay's cut-off
         dimming = F(1.f - params_.ao_intensity) +
                   F(params_.ao_intensity) * ambient_visibility(org, n, ray.time, lanes, rng);
-      out.color = kd * (simd::abs(dot(n, normalize(ray.dir))) * dimming * o.d);
+      out.color = kd * (simd::abs(dot(n, normalize(ray.dir))) * dimming *
+                        (params_.opacity_weights_color ? o.d : F(1.f)));
     } else {
       Vec3<F> lit = Vec3<F>(ambient_) * ambient_visibility(org, n, ray.time, lanes, rng);
       lit = lit * kd;
