@@ -32,7 +32,9 @@ struct Command {
 };
 
 int rank = 0, ranks = 1;
-std::unique_ptr<sciray::mpi::DataParallel> compositor;  // made by every rank before the first command
+// Made by every rank before the first command.
+std::unique_ptr<sciray::mpi::ImageParallel> frames;
+std::unique_ptr<sciray::mpi::DataParallel> compositor;
 
 /// Rank 0's command to every rank; the others wait for it sleeping, not spinning, so that
 /// rank 0's own measurements get the cores.
@@ -73,18 +75,14 @@ Scene& scene() {
 constexpr unsigned channels = sciray::channel_color | sciray::channel_depth | sciray::channel_accum;
 
 /// One image-parallel frame on every rank (rank 0 owns it).
-sciray::mpi::FrameTraffic image_parallel_frame(MPI_Comm comm, std::uint32_t frame_id, sciray::FrameBuffer& fb) {
+sciray::mpi::FrameTraffic image_parallel_frame(sciray::FrameBuffer& fb) {
   Scene& s = scene();
-  if (rank == 0) return sciray::mpi::serve_frame(comm, frame_id, fb, {}, {}, nullptr, s.kernels->accumulate_tile);
-  static sciray::FrameBuffer staging = sciray::mpi::staging_for(fb.width(), fb.height(), channels);
-  if (staging.width() != fb.width()) staging = sciray::mpi::staging_for(fb.width(), fb.height(), channels);
-  sciray::mpi::work_frame(
-      comm, 0, frame_id, staging,
+  return frames->render_frame(
+      fb, {},
       [&](std::span<const sciray::TileWork> share, sciray::FrameBuffer& staged) {
         s.kernels->render_tiles(s.world, s.params, s.camera, staged, share, nullptr, {});
       },
-      32);
-  return {};
+      s.kernels->accumulate_tile);
 }
 
 /// One fragment layer covering the frame, as a rank's region would.
@@ -99,13 +97,12 @@ sciray::distributed::FragmentImage layer_of(int size) {
 }
 
 void follow() {
-  std::uint32_t frame_id = 0;
   for (;;) {
     const Command command = share({});
     if (command.op == Op::stop) return;
     if (command.op == Op::image_parallel) {
       sciray::FrameBuffer fb(command.size, command.size, sciray::ColorFormat::srgba, channels);
-      image_parallel_frame(MPI_COMM_WORLD, frame_id++, fb);
+      image_parallel_frame(fb);
     } else {
       const auto layer = layer_of(command.size);
       compositor->composite_frame(std::span(&layer, 1), command.size, command.size, {}, nullptr);
@@ -125,33 +122,32 @@ void image_parallel(benchmark::State& state) {
   if (ranks < 2) return state.SkipWithError("needs 2 or more ranks (mpirun -n P)");
   const int size = static_cast<int>(state.range(0));
   sciray::FrameBuffer fb(size, size, sciray::ColorFormat::srgba, channels);
-  static std::uint32_t frame_id = 0;
-  double bytes = 0, frames = 0;
+  double bytes = 0, frame_count = 0;
   for (auto _ : state) {
     share({Op::image_parallel, size});
-    const auto traffic = image_parallel_frame(MPI_COMM_WORLD, frame_id++, fb);
+    const auto traffic = image_parallel_frame(fb);
     for (const auto b : traffic.bytes) bytes += static_cast<double>(b);
-    ++frames;
+    ++frame_count;
   }
   state.counters["ranks"] = ranks;
-  state.counters["bytes_to_rank0_per_frame"] = bytes / frames;
-  state.counters["bytes_per_pixel"] = bytes / frames / (double(size) * size);
+  state.counters["bytes_to_rank0_per_frame"] = bytes / frame_count;
+  state.counters["bytes_per_pixel"] = bytes / frame_count / (double(size) * size);
 }
 
 void composite(benchmark::State& state) {
   const int size = static_cast<int>(state.range(0));
   sciray::FrameBuffer fb(size, size, sciray::ColorFormat::srgba, sciray::channel_color | sciray::channel_depth);
   const auto layer = layer_of(size);
-  double sent = 0, frames = 0;
+  double sent = 0, frame_count = 0;
   for (auto _ : state) {
     share({Op::composite, size});
     sent += static_cast<double>(
         compositor->composite_frame(std::span(&layer, 1), size, size, {}, &fb, scene().kernels->accumulate_tile)
             .bytes_sent);
-    ++frames;
+    ++frame_count;
   }
   state.counters["ranks"] = ranks;
-  state.counters["bytes_sent_rank0_per_frame"] = sent / frames;
+  state.counters["bytes_sent_rank0_per_frame"] = sent / frame_count;
   state.SetItemsProcessed(state.iterations() * size * size);  // pixels composited per second
 }
 
@@ -163,6 +159,7 @@ int main(int argc, char** argv) {
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
   MPI_Comm_size(MPI_COMM_WORLD, &ranks);
   scene();  // every rank holds the scene before the first frame
+  frames = std::make_unique<sciray::mpi::ImageParallel>(MPI_COMM_WORLD, 0, sciray::mpi::Scheduling{.batch_tiles = 32});
   compositor = std::make_unique<sciray::mpi::DataParallel>(MPI_COMM_WORLD);
   if (rank != 0) {
     follow();
@@ -186,6 +183,7 @@ int main(int argc, char** argv) {
     benchmark::RunSpecifiedBenchmarks();
     share({Op::stop, 0});
   }
+  frames.reset();
   compositor.reset();
   MPI_Finalize();
   return 0;

@@ -354,7 +354,7 @@ int render(const RenderOptions& opt) {
       start = Clock::now();
 #ifdef SCIRAY_TOOL_MPI
       if (mpi)
-        mpi->render(kernels, world, config, camera, fb, settings, threads);
+        mpi->render(kernels, world, config, camera, fb, settings);
       else
 #endif
         kernels.render(world, config, camera, fb, nullptr, settings);

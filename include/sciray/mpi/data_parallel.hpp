@@ -39,23 +39,12 @@ class DataParallel {
 public:
   explicit DataParallel(MPI_Comm comm, int owner = 0,
                         double timeout_seconds = scheduling_from_environment().timeout_seconds)
-      : owner_(owner), timeout_(timeout_seconds) {
-    check(MPI_Comm_dup(comm, &comm_), "MPI_Comm_dup");
-    check(MPI_Comm_rank(comm_, &rank_), "MPI_Comm_rank");
-    check(MPI_Comm_size(comm_, &ranks_), "MPI_Comm_size");
-  }
-  ~DataParallel() {
-    int finalized = 0;
-    MPI_Finalized(&finalized);
-    if (!finalized) MPI_Comm_free(&comm_);
-  }
-  DataParallel(const DataParallel&) = delete;
-  DataParallel& operator=(const DataParallel&) = delete;
+      : comm_(comm), owner_(owner), timeout_(timeout_seconds) {}
 
-  bool owns_frames() const { return rank_ == owner_; }
-  int rank() const { return rank_; }
-  int ranks() const { return ranks_; }
-  MPI_Comm communicator() const { return comm_; }
+  bool owns_frames() const { return comm_.rank() == owner_; }
+  int rank() const { return comm_.rank(); }
+  int ranks() const { return comm_.size(); }
+  MPI_Comm communicator() const { return comm_.get(); }
 
   /// The frame index of every tile, the owner's (`fb` there, ignored elsewhere), for the
   /// regions' samples to follow the owner's accumulation (collective).
@@ -66,7 +55,7 @@ public:
       for (int tile = 0; tile < tile_count; ++tile) frames[static_cast<std::size_t>(tile)] = fb->tile_frames(tile);
     }
     MPI_Request request;
-    check(MPI_Ibcast(frames.data(), tile_count, MPI_UINT32_T, owner_, comm_, &request), "MPI_Ibcast");
+    check(MPI_Ibcast(frames.data(), tile_count, MPI_UINT32_T, owner_, comm_.get(), &request), "MPI_Ibcast");
     wait(request, "sharing the frame's tile counts");
     return frames;
   }
@@ -75,20 +64,20 @@ public:
   std::vector<std::vector<Box3f>> all_regions(std::span<const Box3f> mine) {
     static_assert(sizeof(Box3f) == 6 * sizeof(float));
     const int count = static_cast<int>(6 * mine.size());
-    std::vector<int> counts(static_cast<std::size_t>(ranks_)), offsets(static_cast<std::size_t>(ranks_));
+    std::vector<int> counts(static_cast<std::size_t>(comm_.size())), offsets(static_cast<std::size_t>(comm_.size()));
     MPI_Request request;
-    check(MPI_Iallgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, comm_, &request), "MPI_Iallgather");
+    check(MPI_Iallgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, comm_.get(), &request), "MPI_Iallgather");
     wait(request, "sharing the ranks' regions");
     int total = 0;
-    for (int r = 0; r < ranks_; ++r)
+    for (int r = 0; r < comm_.size(); ++r)
       offsets[static_cast<std::size_t>(r)] = total, total += counts[static_cast<std::size_t>(r)];
     std::vector<float> boxes(static_cast<std::size_t>(total));
-    check(MPI_Iallgatherv(mine.data(), count, MPI_FLOAT, boxes.data(), counts.data(), offsets.data(), MPI_FLOAT, comm_,
-                          &request),
+    check(MPI_Iallgatherv(mine.data(), count, MPI_FLOAT, boxes.data(), counts.data(), offsets.data(), MPI_FLOAT,
+                          comm_.get(), &request),
           "MPI_Iallgatherv");
     wait(request, "sharing the ranks' regions");
-    std::vector<std::vector<Box3f>> all(static_cast<std::size_t>(ranks_));
-    for (int r = 0; r < ranks_; ++r)
+    std::vector<std::vector<Box3f>> all(static_cast<std::size_t>(comm_.size()));
+    for (int r = 0; r < comm_.size(); ++r)
       for (int at = offsets[static_cast<std::size_t>(r)];
            at < offsets[static_cast<std::size_t>(r)] + counts[static_cast<std::size_t>(r)]; at += 6) {
         const float* b = &boxes[static_cast<std::size_t>(at)];
@@ -111,8 +100,8 @@ public:
     if (owns_frames()) check_frame_buffer(fb, width, height);
     const auto band = [&](int r) {
       const auto rows = static_cast<std::size_t>(height);
-      const std::size_t first = rows * static_cast<std::size_t>(r) / static_cast<std::size_t>(ranks_);
-      const std::size_t last = rows * static_cast<std::size_t>(r + 1) / static_cast<std::size_t>(ranks_);
+      const std::size_t first = rows * static_cast<std::size_t>(r) / static_cast<std::size_t>(comm_.size());
+      const std::size_t last = rows * static_cast<std::size_t>(r + 1) / static_cast<std::size_t>(comm_.size());
       return std::pair{first * static_cast<std::size_t>(width), (last - first) * static_cast<std::size_t>(width)};
     };
 
@@ -120,8 +109,9 @@ public:
     // kept from frame to frame: fresh pages cost more than the compositing.)
     std::vector<float>& outgoing = outgoing_;
     outgoing.clear();
-    std::vector<int> send_counts(static_cast<std::size_t>(ranks_)), send_offsets(static_cast<std::size_t>(ranks_));
-    for (int r = 0; r < ranks_; ++r) {
+    std::vector<int> send_counts(static_cast<std::size_t>(comm_.size())),
+        send_offsets(static_cast<std::size_t>(comm_.size()));
+    for (int r = 0; r < comm_.size(); ++r) {
       const auto [first, count] = band(r);
       send_offsets[static_cast<std::size_t>(r)] = static_cast<int>(outgoing.size());
       for (const auto& layer : layers) {
@@ -138,24 +128,24 @@ public:
       send_counts[static_cast<std::size_t>(r)] =
           static_cast<int>(outgoing.size()) - send_offsets[static_cast<std::size_t>(r)];
     }
-    std::vector<int> receive_counts(static_cast<std::size_t>(ranks_)),
-        receive_offsets(static_cast<std::size_t>(ranks_));
+    std::vector<int> receive_counts(static_cast<std::size_t>(comm_.size())),
+        receive_offsets(static_cast<std::size_t>(comm_.size()));
     MPI_Request request;
-    check(MPI_Ialltoall(send_counts.data(), 1, MPI_INT, receive_counts.data(), 1, MPI_INT, comm_, &request),
+    check(MPI_Ialltoall(send_counts.data(), 1, MPI_INT, receive_counts.data(), 1, MPI_INT, comm_.get(), &request),
           "MPI_Ialltoall");
     wait(request, "exchanging fragment counts");
     int total = 0;
-    for (int r = 0; r < ranks_; ++r)
+    for (int r = 0; r < comm_.size(); ++r)
       receive_offsets[static_cast<std::size_t>(r)] = total, total += receive_counts[static_cast<std::size_t>(r)];
     std::vector<float>& incoming = incoming_;
     incoming.resize(static_cast<std::size_t>(total));
     check(MPI_Ialltoallv(outgoing.data(), send_counts.data(), send_offsets.data(), MPI_FLOAT, incoming.data(),
-                         receive_counts.data(), receive_offsets.data(), MPI_FLOAT, comm_, &request),
+                         receive_counts.data(), receive_offsets.data(), MPI_FLOAT, comm_.get(), &request),
           "MPI_Ialltoallv");
     wait(request, "exchanging fragments");
 
     // This rank's band, composited.
-    const auto [first, count] = band(rank_);
+    const auto [first, count] = band(comm_.rank());
     std::vector<distributed::FragmentView> views;
     const std::size_t per_layer = 6 * count;
     for (std::size_t at = 0; per_layer > 0 && at + per_layer <= incoming.size(); at += per_layer) {
@@ -168,21 +158,22 @@ public:
                            std::span(composited).subspan(4 * count, count));
 
     // The bands to the frame's owner.
-    std::vector<int> band_counts(static_cast<std::size_t>(ranks_)), band_offsets(static_cast<std::size_t>(ranks_));
-    for (int r = 0; r < ranks_; ++r) {
+    std::vector<int> band_counts(static_cast<std::size_t>(comm_.size())),
+        band_offsets(static_cast<std::size_t>(comm_.size()));
+    for (int r = 0; r < comm_.size(); ++r) {
       band_counts[static_cast<std::size_t>(r)] = static_cast<int>(5 * band(r).second);
       band_offsets[static_cast<std::size_t>(r)] = static_cast<int>(5 * band(r).first);
     }
     std::vector<float>& bands = bands_;
     bands.resize(owns_frames() ? 5 * static_cast<std::size_t>(width) * static_cast<std::size_t>(height) : 0);
     check(MPI_Igatherv(composited.data(), static_cast<int>(composited.size()), MPI_FLOAT, bands.data(),
-                       band_counts.data(), band_offsets.data(), MPI_FLOAT, owner_, comm_, &request),
+                       band_counts.data(), band_offsets.data(), MPI_FLOAT, owner_, comm_.get(), &request),
           "MPI_Igatherv");
     wait(request, "gathering the composited bands");
 
     CompositeTraffic traffic;
-    for (int r = 0; r < ranks_; ++r) {
-      if (r == rank_) continue;
+    for (int r = 0; r < comm_.size(); ++r) {
+      if (r == comm_.rank()) continue;
       const auto at = static_cast<std::size_t>(r);
       traffic.bytes_sent += sizeof(float) * static_cast<std::uint64_t>(send_counts[at]);
       traffic.bytes_received += sizeof(float) * static_cast<std::uint64_t>(receive_counts[at]);
@@ -217,7 +208,7 @@ private:
                         AccumulateTile accumulate) const {
     const auto row_width = static_cast<std::size_t>(width);
     std::vector<int> band_of_row(static_cast<std::size_t>(fb.height()));
-    for (int r = 0; r < ranks_; ++r) {
+    for (int r = 0; r < comm_.size(); ++r) {
       const auto [first, count] = band(r);
       for (std::size_t row = first / row_width; row < (first + count) / row_width; ++row) band_of_row[row] = r;
     }
@@ -255,9 +246,8 @@ private:
     }
   }
 
-  MPI_Comm comm_ = MPI_COMM_NULL;
+  Communicator comm_;
   int owner_;
-  int rank_ = 0, ranks_ = 1;
   double timeout_;
   std::vector<float> outgoing_, incoming_, composited_, bands_;
 };

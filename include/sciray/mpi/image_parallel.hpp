@@ -46,6 +46,32 @@ inline void check(int code, const char* what) {
   throw Error(std::string("mpi: ") + what + " failed: " + std::string(text, static_cast<std::size_t>(length)));
 }
 
+/// A duplicate of a communicator, freed with this object (unless MPI is finalized by
+/// then), so that the layer's messages never meet the application's.
+class Communicator {
+public:
+  explicit Communicator(MPI_Comm comm) {
+    check(MPI_Comm_dup(comm, &comm_), "MPI_Comm_dup");
+    check(MPI_Comm_rank(comm_, &rank_), "MPI_Comm_rank");
+    check(MPI_Comm_size(comm_, &size_), "MPI_Comm_size");
+  }
+  ~Communicator() {
+    int finalized = 0;
+    MPI_Finalized(&finalized);
+    if (!finalized) MPI_Comm_free(&comm_);
+  }
+  Communicator(const Communicator&) = delete;
+  Communicator& operator=(const Communicator&) = delete;
+
+  MPI_Comm get() const { return comm_; }
+  int rank() const { return rank_; }
+  int size() const { return size_; }
+
+private:
+  MPI_Comm comm_ = MPI_COMM_NULL;
+  int rank_ = 0, size_ = 1;
+};
+
 struct Scheduling {
   bool dynamic = true;  ///< a task queue of tile batches; off: one fixed share per rank
   /// Tiles a rank asks for at once (0: four per thread it renders with).
@@ -305,20 +331,11 @@ inline FrameBuffer staging_for(int width, int height, unsigned channels) {
 class ImageParallel {
 public:
   explicit ImageParallel(MPI_Comm comm, int owner = 0, Scheduling scheduling = scheduling_from_environment())
-      : owner_(owner), scheduling_(scheduling) {
-    check(MPI_Comm_dup(comm, &comm_), "MPI_Comm_dup");
-    check(MPI_Comm_rank(comm_, &rank_), "MPI_Comm_rank");
-  }
-  ~ImageParallel() {
-    int finalized = 0;
-    MPI_Finalized(&finalized);
-    if (!finalized) MPI_Comm_free(&comm_);
-  }
-  ImageParallel(const ImageParallel&) = delete;
-  ImageParallel& operator=(const ImageParallel&) = delete;
+      : comm_(comm), owner_(owner), scheduling_(scheduling) {}
 
-  bool owns_frames() const { return rank_ == owner_; }
-  MPI_Comm communicator() const { return comm_; }
+  bool owns_frames() const { return comm_.rank() == owner_; }
+  int ranks() const { return comm_.size(); }
+  MPI_Comm communicator() const { return comm_.get(); }
 
   /// Renders one frame (a collective call): the owner's `fb` accumulates it; the other
   /// ranks' `fb` (of the same size and channels) only gives the staging buffer's shape.
@@ -326,19 +343,27 @@ public:
   template <class Arch, class Renderer, class CameraT>
   FrameTraffic render_frame(const Renderer& renderer, const CameraT& camera, FrameBuffer& fb,
                             const FrameSettings& settings = {}, FrameControl* control = nullptr) {
+    return render_frame(
+        fb, settings,
+        [&](std::span<const TileWork> share, FrameBuffer& staging) {
+          render_tiles<Arch>(renderer, camera, staging, share, nullptr, settings);
+        },
+        accumulate_tile, control);
+  }
+
+  /// render_frame for renderers reached another way (the shim's per-ISA render_tiles):
+  /// the other ranks render their shares with `render_share`, the owner accumulates with
+  /// `accumulate`.
+  FrameTraffic render_frame(FrameBuffer& fb, const FrameSettings& settings, const RenderShare& render_share,
+                            AccumulateTile accumulate = accumulate_tile, FrameControl* control = nullptr) {
     const std::uint32_t frame_id = next_frame_++;
-    if (owns_frames()) return serve_frame(comm_, frame_id, fb, settings, scheduling_, control);
+    if (owns_frames()) return serve_frame(comm_.get(), frame_id, fb, settings, scheduling_, control, accumulate);
     if (!staging_ || staging_->width() != fb.width() || staging_->height() != fb.height() ||
         staging_->packed_floats() != fb.packed_floats())
       staging_.emplace(staging_for(fb.width(), fb.height(), channels_of(fb)));
     const int batch =
         scheduling_.batch_tiles > 0 ? scheduling_.batch_tiles : 4 * tbb::this_task_arena::max_concurrency();
-    work_frame(
-        comm_, owner_, frame_id, *staging_,
-        [&](std::span<const TileWork> share, FrameBuffer& staging) {
-          render_tiles<Arch>(renderer, camera, staging, share, nullptr, settings);
-        },
-        batch);
+    work_frame(comm_.get(), owner_, frame_id, *staging_, render_share, batch);
     return {};
   }
 
@@ -351,8 +376,7 @@ private:
     return channels;
   }
 
-  MPI_Comm comm_ = MPI_COMM_NULL;
-  int rank_ = 0;
+  Communicator comm_;
   int owner_;
   Scheduling scheduling_;
   std::uint32_t next_frame_ = 0;
