@@ -109,6 +109,15 @@ struct FrameTraffic {
   std::vector<std::uint64_t> bytes;
 };
 
+/// A message the frame's owner received for a frame it has not started: a rank that
+/// finished its share of frame f may already ask for tiles of frame f + 1 while the
+/// owner still serves f. It waits here for serve_frame of its frame.
+struct EarlyMessage {
+  int rank;
+  int tag;
+  std::vector<std::byte> bytes;
+};
+
 namespace detail {
 enum Tag : int { tag_result = 1, tag_error = 2, tag_work = 3 };
 
@@ -128,9 +137,11 @@ inline void send(const Writer& message, int rank, int tag, MPI_Comm comm) {
 /// to the other ranks, accumulates what they send, and finishes the frame. Cancelling
 /// through `control` stops handing out tiles and leaves the accumulation reset, as
 /// render_frame does; an error from any rank does the same and is thrown, naming the rank.
+/// Where ranks start the next frame without waiting for the owner (ImageParallel), pass
+/// the same `early` list to every frame: requests for later frames wait there.
 inline FrameTraffic serve_frame(MPI_Comm comm, std::uint32_t frame_id, FrameBuffer& fb, const FrameSettings& settings,
                                 const Scheduling& scheduling = {}, FrameControl* control = nullptr,
-                                AccumulateTile accumulate = accumulate_tile) {
+                                AccumulateTile accumulate = accumulate_tile, std::deque<EarlyMessage>* early = nullptr) {
   int ranks = 0, self = 0;
   check(MPI_Comm_size(comm, &ranks), "MPI_Comm_size");
   check(MPI_Comm_rank(comm, &self), "MPI_Comm_rank");
@@ -161,11 +172,24 @@ inline FrameTraffic serve_frame(MPI_Comm comm, std::uint32_t frame_id, FrameBuff
   const auto timeout = std::chrono::duration<double>(scheduling.timeout_seconds);
   auto deadline = std::chrono::steady_clock::now() + timeout;
 
+  // The frame a message belongs to, against this one (wrapping frame ids compare by difference).
+  const auto frames_ahead = [&](const std::vector<std::byte>& bytes) {
+    return static_cast<std::int32_t>(Reader(bytes).get<std::uint32_t>() - frame_id);
+  };
   while (open > 0) {
-    int arrived = 0;
-    MPI_Status status;
-    check(MPI_Iprobe(MPI_ANY_SOURCE, MPI_ANY_TAG, comm, &arrived, &status), "MPI_Iprobe");
-    if (!arrived) {
+    int rank = 0, tag = 0;
+    const auto waiting = early ? std::find_if(early->begin(), early->end(),
+                                              [&](const EarlyMessage& m) { return frames_ahead(m.bytes) <= 0; })
+                               : std::deque<EarlyMessage>::iterator{};
+    if (early && waiting != early->end()) {
+      rank = waiting->rank, tag = waiting->tag;
+      buffer = std::move(waiting->bytes);
+      early->erase(waiting);
+    } else {
+      int arrived = 0;
+      MPI_Status status;
+      check(MPI_Iprobe(MPI_ANY_SOURCE, MPI_ANY_TAG, comm, &arrived, &status), "MPI_Iprobe");
+      if (!arrived) {
       if (std::chrono::steady_clock::now() > deadline) {
         std::string silent;
         for (int r = 0; r < ranks; ++r)
@@ -175,32 +199,41 @@ inline FrameTraffic serve_frame(MPI_Comm comm, std::uint32_t frame_id, FrameBuff
                     std::to_string(scheduling.timeout_seconds) +
                     " s (a rank died, never started, or is not rendering this frame)");
       }
-      std::this_thread::sleep_for(std::chrono::microseconds(50));
-      continue;
+        std::this_thread::sleep_for(std::chrono::microseconds(50));
+        continue;
+      }
+      int size = 0;
+      check(MPI_Get_count(&status, MPI_BYTE, &size), "MPI_Get_count");
+      buffer.resize(static_cast<std::size_t>(size));
+      check(MPI_Recv(buffer.data(), size, MPI_BYTE, status.MPI_SOURCE, status.MPI_TAG, comm, MPI_STATUS_IGNORE),
+            "receiving a tile message");
+      deadline = std::chrono::steady_clock::now() + timeout;
+      rank = status.MPI_SOURCE, tag = status.MPI_TAG;
     }
-    int size = 0;
-    check(MPI_Get_count(&status, MPI_BYTE, &size), "MPI_Get_count");
-    buffer.resize(static_cast<std::size_t>(size));
-    check(MPI_Recv(buffer.data(), size, MPI_BYTE, status.MPI_SOURCE, status.MPI_TAG, comm, MPI_STATUS_IGNORE),
-          "receiving a tile message");
-    deadline = std::chrono::steady_clock::now() + timeout;
-    const int rank = status.MPI_SOURCE;
     const auto r = static_cast<std::size_t>(rank);
-    Reader message(buffer);
-    const auto message_frame = message.get<std::uint32_t>();
     const auto answer = [&](std::uint32_t frame, std::span<const TileWork> work) {
       Writer reply;
       reply.put(frame);
       reply.put_span(work);
       detail::send(reply, rank, detail::tag_work, comm);
     };
-    if (message_frame != frame_id) {  // from a frame that timed out: let that rank move on
-      if (status.MPI_TAG == detail::tag_result) answer(message_frame, {});
+    if (const std::int32_t ahead = frames_ahead(buffer); ahead != 0) {
+      if (ahead > 0 && early) {
+        early->push_back({rank, tag, std::move(buffer)});
+      } else if (ahead > 0) {
+        fb.reset_accumulation();
+        throw Error("mpi: frame " + std::to_string(frame_id) + ": rank " + std::to_string(rank) +
+                    " asked for tiles of a later frame before this one ended");
+      } else if (tag == detail::tag_result) {  // from a frame that timed out: let that rank move on
+        answer(frame_id + static_cast<std::uint32_t>(ahead), {});
+      }
       continue;
     }
     if (finished[r]) continue;
-    traffic.bytes[r] += static_cast<std::uint64_t>(size);
-    if (status.MPI_TAG == detail::tag_error) {
+    Reader message(buffer);
+    message.get<std::uint32_t>();
+    traffic.bytes[r] += static_cast<std::uint64_t>(buffer.size());
+    if (tag == detail::tag_error) {
       if (failure.empty()) failure = "rank " + std::to_string(rank) + ": " + message.get_string();
       finished[r] = true, --open;
       continue;
@@ -357,7 +390,8 @@ public:
   FrameTraffic render_frame(FrameBuffer& fb, const FrameSettings& settings, const RenderShare& render_share,
                             AccumulateTile accumulate = accumulate_tile, FrameControl* control = nullptr) {
     const std::uint32_t frame_id = next_frame_++;
-    if (owns_frames()) return serve_frame(comm_.get(), frame_id, fb, settings, scheduling_, control, accumulate);
+    if (owns_frames())
+      return serve_frame(comm_.get(), frame_id, fb, settings, scheduling_, control, accumulate, &early_);
     if (!staging_ || staging_->width() != fb.width() || staging_->height() != fb.height() ||
         staging_->packed_floats() != fb.packed_floats())
       staging_.emplace(staging_for(fb.width(), fb.height(), channels_of(fb)));
@@ -381,6 +415,7 @@ private:
   Scheduling scheduling_;
   std::uint32_t next_frame_ = 0;
   std::optional<FrameBuffer> staging_;
+  std::deque<EarlyMessage> early_;  ///< on the owner: requests for frames it has not started
 };
 
 }  // namespace sciray::mpi
