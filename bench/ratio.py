@@ -15,9 +15,15 @@ multiple of primary rays, renderer/<isa>/<scene>/scivis, of the same ISA and sce
         --benchmark_repetitions=3 --benchmark_report_aggregates_only=true \
         --benchmark_out=renderers.json --benchmark_out_format=json
     python3 bench/ratio.py renderers.json
+
+Given the JSON lines of bench/peers/side_by_side.sh (sciray and OSPRay 3.1 through the
+same C API client), prints per case the medians over rounds of frame time, time to first
+image and peak memory, and sciray's ratio to OSPRay for each (speed: OSPRay's time over
+sciray's, so above 1 is faster; memory: sciray's over OSPRay's, so below 1 is smaller).
 """
 import json
 import re
+import statistics
 import sys
 
 
@@ -90,5 +96,33 @@ def renderer_costs(rates):
         print(f"| {scene} | {isa} | " + " | ".join(cells) + " |")
 
 
+def side_by_side(path):
+    runs = {}
+    with open(path) as f:
+        for line in f:
+            if line.strip():
+                run = json.loads(line)
+                runs.setdefault(run["case"], {}).setdefault(run["engine"], []).append(run)
+    print("| case | sciray ms | OSPRay ms | speed × OSPRay | first image s (sciray / OSPRay) | × | "
+          "peak MB (sciray / OSPRay) | memory × |")
+    print("|---|---:|---:|---:|---:|---:|---:|---:|")
+    for case, engines in runs.items():
+        if not {"sciray", "ospray"} <= engines.keys():
+            continue
+
+        def median(engine, key):
+            return statistics.median(run[key] for run in engines[engine])
+
+        frame = {e: median(e, "frame_ms_median") for e in ("sciray", "ospray")}
+        first = {e: median(e, "time_to_first_image_ms") / 1e3 for e in ("sciray", "ospray")}
+        peak = {e: median(e, "peak_kb") / 1024 for e in ("sciray", "ospray")}
+        print(f"| {case} | {frame['sciray']:.1f} | {frame['ospray']:.1f} | **{frame['ospray'] / frame['sciray']:.2f}** | "
+              f"{first['sciray']:.2f} / {first['ospray']:.2f} | {first['ospray'] / first['sciray']:.2f} | "
+              f"{peak['sciray']:.0f} / {peak['ospray']:.0f} | {peak['sciray'] / peak['ospray']:.2f} |")
+
+
 if __name__ == "__main__":
-    main(sys.argv[1])
+    if sys.argv[1].endswith(".jsonl"):
+        side_by_side(sys.argv[1])
+    else:
+        main(sys.argv[1])
