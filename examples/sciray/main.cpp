@@ -104,6 +104,7 @@ struct RenderOptions {
   std::vector<std::string> clip_spheres;  ///< "x,y,z,r" each
   std::vector<std::string> slices;        ///< "a,b,c,d" each
   std::string sphere_intersector = "sciray";
+  std::string bvh = "fast";
   sciray_tool::VolumeOptions volume;
   float sampling_rate = 1.f;
   bool no_empty_space_skipping = false;
@@ -201,6 +202,14 @@ std::vector<float> parse_floats(const std::string& text, std::size_t count, cons
   return values;
 }
 
+sciray::BvhSettings parse_bvh(const std::string& name) {
+  if (name == "fast") return {};
+  if (name == "compact") return {.compact = true};
+  if (name == "dynamic") return {.dynamic = true};
+  if (name == "compact,dynamic") return {.compact = true, .dynamic = true};
+  throw sciray::Error("--bvh: expected fast, compact, dynamic or compact,dynamic, got '" + name + "'");
+}
+
 sciray::SphereIntersector parse_intersector(const std::string& name) {
   if (name == "sciray") return sciray::SphereIntersector::sciray;
   if (name == "embree") return sciray::SphereIntersector::embree;
@@ -265,6 +274,8 @@ int render(const RenderOptions& opt) {
     // The scene's geometry goes into the world, or into one group the world instances.
     auto group = std::make_shared<sciray::shim::EngineWorld::GroupType>(device);
     sciray::shim::EngineWorld::GroupType& target = scene.instances.empty() ? world : *group;
+    world.set_bvh(parse_bvh(opt.bvh));
+    group->set_bvh(parse_bvh(opt.bvh));
     // --material k shades the k-th geometry added; the last one shades the rest.
     std::vector<sciray::Material> materials;
     if (scene.material && opt.materials.empty()) materials.push_back(*scene.material);
@@ -391,6 +402,7 @@ int render(const RenderOptions& opt) {
               {"pixel_samples", opt.pixel_samples},
               {"volumes", world.volume_count()},
               {"sphere_intersector", opt.sphere_intersector},
+              {"bvh", opt.bvh},
               {"load_ms", load_ms},
               {"bvh_build_ms", build_ms},
               {"frame_ms", frame_ms},
@@ -499,6 +511,9 @@ int main(int argc, char** argv) {
   render_cmd->add_flag("--panoramic", opt.panoramic, "a 360x180 degree panoramic camera at the view's position");
   render_cmd->add_option("--sphere-intersector", opt.sphere_intersector,
                          "sciray (own packet intersector) or embree (Embree's point geometry)");
+  render_cmd->add_option("--bvh", opt.bvh,
+                         "fast (default), compact (less memory), dynamic (fastest build) or compact,dynamic: the "
+                         "BVH's layout and build, as OSPRay's compactMode and dynamicScene");
 
   try {
     app.parse(argc, argv);

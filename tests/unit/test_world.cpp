@@ -127,6 +127,31 @@ TEST_CASE("10,000 instances of a 1M-triangle group cost about one copy", "[world
   CHECK(many.bounds().upper.x > 290.f);
 }
 
+TEST_CASE("BVH settings: compact leaves cost less memory, every layout renders the same image",
+          "[world][memory][render]") {
+  const MeshData bunny = io::read_ply(SCIRAY_DATA_DIR "/meshes/bunny.ply");
+  SciVisParams params;
+  params.lights = default_lights({0.5f, -0.7f, -0.6f});
+  const auto& kernels = shim::kernels(simd::best_supported_isa());
+  std::vector<std::size_t> memory;
+  std::vector<std::vector<float>> images;
+  for (const BvhSettings settings : {BvhSettings{}, BvhSettings{.compact = true}, BvhSettings{.dynamic = true}}) {
+    accel::Device device;  // one per layout: the device counts what its scenes hold
+    shim::EngineWorld world(device);
+    world.set_bvh(settings);
+    world.add(TriangleMesh(bunny));
+    kernels.commit(world);
+    memory.push_back(world.memory_bytes());
+    FrameBuffer fb(96, 96, ColorFormat::rgba32f);
+    kernels.render_scivis(world, params, frame_bounds(world.bounds(), 1.f), fb, nullptr);
+    images.push_back(io::color_image(fb).pixels);
+  }
+  INFO("bytes: fast " << memory[0] << ", compact " << memory[1] << ", dynamic " << memory[2]);
+  CHECK(memory[1] < memory[0] * 3 / 4);
+  CHECK(images[1] == images[0]);
+  CHECK(images[2] == images[0]);
+}
+
 TEST_CASE("a scene of every geometry type, instanced and clipped, matches its reference", "[world][reference]") {
   accel::Device device;
   shim::EngineWorld world(device);

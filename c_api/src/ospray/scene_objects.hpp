@@ -413,6 +413,8 @@ public:
   /// What the group's engine form (its BVH) depends on: the group and its rendered
   /// models, not its clipping models.
   std::uint64_t geometry_version() const;
+  /// `compactMode`, `dynamicScene`: how its BVH is laid out and built.
+  const BvhSettings& bvh() const { return bvh_; }
 
 protected:
   void on_commit() override;
@@ -422,6 +424,7 @@ private:
   std::vector<Ref<GeometricModel>> clipping_models_;
   std::vector<Ref<VolumetricModelObject>> volumes_;
   std::vector<Ref<Light>> lights_;
+  BvhSettings bvh_;
 };
 
 class Instance : public Object {
@@ -540,6 +543,7 @@ private:
   std::vector<Ref<Instance>> instances_;
   std::vector<Ref<Light>> lights_;
   std::vector<Box3f> regions_;
+  BvhSettings bvh_;  ///< `compactMode`, `dynamicScene` of the top-level BVH
   struct MaterialEntry {
     Ref<Material> material;
     bool baked;

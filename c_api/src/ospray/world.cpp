@@ -99,6 +99,7 @@ void Group::on_commit() {
   clipping_models_ = std::move(clipping);
   volumes_ = std::move(volumes);
   lights_ = std::move(lights);
+  bvh_ = {get_bool("compactMode", false), get_bool("dynamicScene", false)};
 }
 
 Box3f Group::bounds() const {
@@ -170,6 +171,7 @@ void World::on_commit() {
       throw Error(name() + ": parameter 'region' element " + std::to_string(i) +
                   " is empty or not finite (lower must be below upper on every axis)");
   }
+  bvh_ = {get_bool("compactMode", false), get_bool("dynamicScene", false)};
 }
 
 std::uint64_t World::version() const {
@@ -474,6 +476,7 @@ std::shared_ptr<const BuiltGroup> World::build_group(Group& group, const shim::I
   built->kernels = &kernels;
   if (group.models().empty()) return built;
   built->group = std::make_shared<shim::EngineWorld::GroupType>(*device_);
+  built->group->set_bvh(group.bvh());
   for (std::size_t k = 0; k < group.models().size(); ++k) {
     const auto& model = group.models()[k];
     Geometry& geometry = *model->geometry();
@@ -552,6 +555,7 @@ std::shared_ptr<const BuiltWorld> World::built(const shim::IsaKernels& kernels, 
   auto built = std::make_shared<BuiltWorld>();
   built->device = device_;
   built->world = std::make_unique<shim::EngineWorld>(*built->device);
+  built->world->set_bvh(bvh_);
   built->kernels = &kernels;
   std::map<const Group*, std::size_t> group_index;  // this build's groups, by OSPRay group
   std::size_t reused = 0;

@@ -47,6 +47,19 @@ concept Geometry = requires(const G& g, const accel::Device& device) {
   { g.template create_embree_geometry<simd::scalar>(device) } -> std::same_as<RTCGeometry>;
 };
 
+/// How Embree lays out and builds a group's or world's BVH: OSPRay's group and world
+/// parameters `compactMode` and `dynamicScene`. The default is the fastest to traverse;
+/// docs/performance.md charts what each choice costs and saves.
+struct BvhSettings {
+  /// RTC_SCENE_FLAG_COMPACT: leaves index the mesh's vertices instead of holding copies of
+  /// them (a 5M-triangle mesh: 45 % less peak memory, 20 % slower primary rays).
+  bool compact = false;
+  /// RTC_SCENE_FLAG_DYNAMIC and Embree's low build quality: the fastest build, for
+  /// geometry that changes every frame, at some cost to traversal.
+  bool dynamic = false;
+  bool operator==(const BvhSettings&) const = default;
+};
+
 template <Geometry... Geometries>
 class Group {
 public:
@@ -90,6 +103,12 @@ public:
   /// Robust traversal (the default) or Embree's faster-in-theory default mode; takes
   /// effect at the next commit.
   void set_robust(bool robust) { robust_ = robust; }
+
+  /// The BVH's layout and build (BvhSettings); takes effect at the next commit.
+  void set_bvh(const BvhSettings& settings) {
+    if (!(settings == bvh_)) bvh_ = settings, committed_ = false;
+  }
+  const BvhSettings& bvh() const { return bvh_; }
 
   /// Whether queries may carry a context filter (clipping); a world with clipping sets it
   /// on its groups. Takes effect at the next commit.
@@ -166,7 +185,10 @@ protected:
     // Embree's default traversal lets rays exactly through a shared edge slip between the
     // two triangles (tests/stability); robust mode closes edges at no measured cost.
     rtcSetSceneFlags(scene.get(), (robust_ ? RTC_SCENE_FLAG_ROBUST : RTC_SCENE_FLAG_NONE) |
-                                      (context_filter_ ? RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION : RTC_SCENE_FLAG_NONE));
+                                      (context_filter_ ? RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION : RTC_SCENE_FLAG_NONE) |
+                                      (bvh_.compact ? RTC_SCENE_FLAG_COMPACT : RTC_SCENE_FLAG_NONE) |
+                                      (bvh_.dynamic ? RTC_SCENE_FLAG_DYNAMIC : RTC_SCENE_FLAG_NONE));
+    rtcSetSceneBuildQuality(scene.get(), bvh_.dynamic ? RTC_BUILD_QUALITY_LOW : RTC_BUILD_QUALITY_MEDIUM);
   }
 
   /// Attaches every geometry to `scene` with ids first_id, first_id + 1, ...
@@ -190,6 +212,7 @@ protected:
   bool committed_ = false;
   bool user_object_ids_ = false;
   bool context_filter_ = false;
+  BvhSettings bvh_;
 
 private:
   struct Ref {
