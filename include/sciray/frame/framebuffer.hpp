@@ -72,10 +72,11 @@ inline constexpr std::uint32_t no_id = 0xFFFFFFFFu;
 namespace detail {
 /// sRGB (or OSPRay's gamma 2.2) encoding through a table indexed by the linear value
 /// quantized to 16 bits: a std::pow per channel would cost as much as tracing the ray.
-inline const std::array<std::uint8_t, 65536>& encoding_table(ColorFormat format) {
+/// Three bytes of padding let packets look the table up with 4-byte hardware gathers.
+inline const std::array<std::uint8_t, 65536 + 3>& encoding_table(ColorFormat format) {
   const auto make = [](auto encode) {
-    std::array<std::uint8_t, 65536> t{};
-    for (std::size_t i = 0; i < t.size(); ++i) t[i] = to_unorm8(encode(static_cast<float>(i) / 65535.f));
+    std::array<std::uint8_t, 65536 + 3> t{};
+    for (std::size_t i = 0; i < 65536; ++i) t[i] = to_unorm8(encode(static_cast<float>(i) / 65535.f));
     return t;
   };
   static const auto srgb = make([](float v) { return linear_to_srgb(v); });
@@ -546,34 +547,26 @@ private:
           for (int c = 0; c < 4; ++c) color32_[4 * static_cast<std::size_t>(pixel[i]) + c] = rgba[c][i];
       return;
     }
-    // 8-bit formats: quantize all lanes at once, then look up / store per pixel. Alpha
-    // stays linear; colour is encoded through a table for SRGBA and gamma 2.2.
+    // 8-bit formats: quantize, encode and pack all lanes at once, then one 4-byte store
+    // per pixel. Alpha stays linear; colour is encoded through a table for SRGBA and
+    // gamma 2.2, looked up by gathers.
+    using I = simd::Int<Arch>;
     const bool srgb = format_ == ColorFormat::srgba || format_ == ColorFormat::gamma22;
     const F scale(srgb ? 65535.f : 255.f);
-    alignas(64) std::int32_t q[4][W];
+    const std::uint8_t* table = srgb ? detail::encoding_table(format_).data() : nullptr;
+    I packed(0);
     for (int c = 0; c < 4; ++c) {
       const F v = simd::load<Arch>(rgba[c]);
       // max/min order maps NaN to 0, and the +0.5 with truncation rounds to nearest.
       const F clamped = simd::min(simd::max(v, F(0.f)), F(1.f));
-      simd::store<Arch>(q[c], simd::to_int(clamped * (c == 3 ? F(255.f) : scale) + F(0.5f)));
+      I q = simd::to_int(clamped * (c == 3 ? F(255.f) : scale) + F(0.5f));
+      if (table && c < 3) q = simd::gather_bytes<Arch>(table, q);
+      packed = packed | (q << (8 * c));
     }
-    // One 4-byte store per pixel, not four byte stores.
-    const auto store = [&](int i, std::uint8_t r, std::uint8_t g, std::uint8_t b) {
-      const std::uint8_t bytes[4] = {r, g, b, static_cast<std::uint8_t>(q[3][i])};
-      std::memcpy(&color8_[4 * static_cast<std::size_t>(pixel[i])], bytes, 4);
-    };
-    if (srgb) {
-      const auto& table = detail::encoding_table(format_);
-      for (int i = 0; i < W; ++i)
-        if (pixel[i] >= 0)
-          store(i, table[static_cast<std::size_t>(q[0][i])], table[static_cast<std::size_t>(q[1][i])],
-                table[static_cast<std::size_t>(q[2][i])]);
-    } else {
-      for (int i = 0; i < W; ++i)
-        if (pixel[i] >= 0)
-          store(i, static_cast<std::uint8_t>(q[0][i]), static_cast<std::uint8_t>(q[1][i]),
-                static_cast<std::uint8_t>(q[2][i]));
-    }
+    alignas(64) std::int32_t bytes[W];
+    simd::store<Arch>(bytes, packed);
+    for (int i = 0; i < W; ++i)
+      if (pixel[i] >= 0) std::memcpy(&color8_[4 * static_cast<std::size_t>(pixel[i])], &bytes[i], 4);
   }
 
   int width_, height_;

@@ -235,19 +235,23 @@ public:
     const auto& a = arrays_;
     // Lanes outside `lanes` may carry another geometry's primitive ids: read face 0.
     const I prim = simd::select(lanes, hit.prim_id, I(0));
-    const auto* index = reinterpret_cast<const std::int32_t*>(a.indices.base);
-    const I face = prim * I(static_cast<std::int32_t>(a.indices.byte_stride / sizeof(std::uint32_t)));
-    const I i0 = simd::gather<Arch>(index, face), i1 = simd::gather<Arch>(index, face + I(1)),
-            i2 = simd::gather<Arch>(index, face + I(2));
-    // Triangles interpolate with barycentrics; quads, as in OSPRay, bilinearly in the
-    // (u, v) Embree reports over the unit square: (v0, v1, v2, v3) at its corners
-    // (0,0), (1,0), (1,1), (0,1).
-    Corners<Arch> corners{{i0, i1, i2, i0}, {F(1.f) - hit.u - hit.v, hit.u, hit.v, F(0.f)}, 3};
-    if (a.vertices_per_face == 4) {
-      corners.index[3] = simd::gather<Arch>(index, face + I(3));
-      const F u = hit.u, v = hit.v;
-      corners.weight = {(F(1.f) - u) * (F(1.f) - v), u * (F(1.f) - v), u * v, (F(1.f) - u) * v};
-      corners.count = 4;
+    // A mesh of positions alone interpolates nothing: its hits read no vertex indices.
+    Corners<Arch> corners;
+    if (!a.texcoords.empty() || !a.motion_normals.empty() || !a.normals.empty() || !a.vertex_colors.empty()) {
+      const auto* index = reinterpret_cast<const std::int32_t*>(a.indices.base);
+      const I face = prim * I(static_cast<std::int32_t>(a.indices.byte_stride / sizeof(std::uint32_t)));
+      const I i0 = simd::gather<Arch>(index, face), i1 = simd::gather<Arch>(index, face + I(1)),
+              i2 = simd::gather<Arch>(index, face + I(2));
+      // Triangles interpolate with barycentrics; quads, as in OSPRay, bilinearly in the
+      // (u, v) Embree reports over the unit square: (v0, v1, v2, v3) at its corners
+      // (0,0), (1,0), (1,1), (0,1).
+      corners = {{i0, i1, i2, i0}, {F(1.f) - hit.u - hit.v, hit.u, hit.v, F(0.f)}, 3};
+      if (a.vertices_per_face == 4) {
+        corners.index[3] = simd::gather<Arch>(index, face + I(3));
+        const F u = hit.u, v = hit.v;
+        corners.weight = {(F(1.f) - u) * (F(1.f) - v), u * (F(1.f) - v), u * v, (F(1.f) - u) * v};
+        corners.count = 4;
+      }
     }
     SurfaceSample<Arch> s;
     if (!a.texcoords.empty()) {
@@ -369,7 +373,7 @@ private:
   struct Corners {
     std::array<simd::Int<Arch>, 4> index;
     std::array<simd::Float<Arch>, 4> weight;
-    int count;  ///< 3 for a triangle, 4 for a quad
+    int count = 3;  ///< 3 for a triangle, 4 for a quad
   };
 
   template <class Arch, int N>

@@ -168,6 +168,29 @@ void store(std::int32_t* p, const Int<Arch>& v) {
     v.store_unaligned(p);
 }
 
+/// Reads the byte base[index[i]] for each lane, widened to 32 bits. The hardware gathers
+/// load 4 bytes at each address: `base` must be readable 3 bytes past the last index.
+template <class Arch>
+Int<Arch> gather_bytes(const std::uint8_t* base, const Int<Arch>& index) {
+  if constexpr (std::is_same_v<Arch, scalar>) {
+    return base[index];
+  } else {
+#if defined(__AVX512F__)
+    if constexpr (std::is_base_of_v<xsimd::avx512f, Arch>)
+      return Int<Arch>(_mm512_i32gather_epi32(index, base, 1)) & Int<Arch>(0xFF);
+#endif
+#if defined(__AVX2__)
+    if constexpr (std::is_base_of_v<xsimd::avx2, Arch>)
+      return Int<Arch>(_mm256_i32gather_epi32(reinterpret_cast<const int*>(base), index, 1)) & Int<Arch>(0xFF);
+#endif
+    alignas(64) std::int32_t at[width<Arch>];
+    alignas(64) std::int32_t values[width<Arch>];
+    index.store_aligned(at);
+    for (int i = 0; i < width<Arch>; ++i) values[i] = base[at[i]];
+    return Int<Arch>::load_aligned(values);
+  }
+}
+
 /// Reads base[index[i]] for each lane (`index` in elements). xsimd 8.1 gathers AVX-512
 /// batches one lane at a time, so the hardware gathers are called directly.
 template <class Arch, class T>
