@@ -565,8 +565,17 @@ private:
     }
     alignas(64) std::int32_t bytes[W];
     simd::store<Arch>(bytes, packed);
-    for (int i = 0; i < W; ++i)
-      if (pixel[i] >= 0) std::memcpy(&color8_[4 * static_cast<std::size_t>(pixel[i])], &bytes[i], 4);
+    // A stamp's row is a run of neighbouring pixels: one store each.
+    for (int i = 0; i < W;) {
+      if (pixel[i] < 0) {
+        ++i;
+        continue;
+      }
+      int end = i + 1;
+      while (end < W && pixel[end] == pixel[end - 1] + 1) ++end;
+      std::memcpy(&color8_[4 * static_cast<std::size_t>(pixel[i])], &bytes[i], 4 * static_cast<std::size_t>(end - i));
+      i = end;
+    }
   }
 
   int width_, height_;
