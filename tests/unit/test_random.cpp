@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "sciray/math/random.hpp"
+#include "sciray/math/random_lanes.hpp"
 
 namespace {
 
@@ -113,4 +114,31 @@ TEST_CASE("neighbouring pixels draw different points", "[random]") {
     ++cells[static_cast<std::size_t>(static_cast<int>(p.v * 4.f) * 4 + static_cast<int>(p.u * 4.f))];
   }
   for (int c : cells) CHECK(std::abs(c - 256) < 64);
+}
+
+TEMPLATE_TEST_CASE("a packet of generators draws, lane by lane, what each pixel's own generator draws", "[random][simd]",
+                   xsimd::default_arch, sciray::simd::scalar) {
+  using Arch = TestType;
+  constexpr int W = sciray::simd::width<Arch>;
+  alignas(64) std::int32_t pixels[W];
+  alignas(64) float active[W];
+  for (const std::uint32_t sample : {0u, 1u, 37u, 1u << 20}) {
+    for (int i = 0; i < W; ++i) pixels[i] = 1000 * i + 7 * static_cast<int>(sample), active[i] = 1.f;
+    sciray::PixelRandomLanes<Arch> lanes(sciray::simd::load<Arch>(pixels), sample);
+    std::vector<PixelRandom> own;
+    for (int i = 0; i < W; ++i) own.emplace_back(static_cast<std::uint32_t>(pixels[i]), sample);
+    for (int draw = 0; draw < 6; ++draw) {
+      // Lanes sit out some draws: those draw nothing and keep their place in the sequence.
+      for (int i = 0; i < W; ++i) active[i] = (draw + i) % 3 == 0 ? 0.f : 1.f;
+      const auto drawing = sciray::simd::load<Arch>(active) > sciray::simd::Float<Arch>(0.f);
+      const auto [u, v] = lanes.next_2d(drawing);
+      for (int i = 0; i < W; ++i) {
+        if (active[i] == 0.f) continue;
+        INFO("sample " << sample << ", draw " << draw << ", lane " << i);
+        const PixelRandom::Pair expected = own[static_cast<std::size_t>(i)].next_2d();
+        CHECK(sciray::simd::lane(u, i) == expected.u);
+        CHECK(sciray::simd::lane(v, i) == expected.v);
+      }
+    }
+  }
 }

@@ -12,15 +12,23 @@
 // used before, steps its first dimensions by nearly 1: 16 samples covered two thirds of
 // [0, 1).) Draws that must not take a low-discrepancy slot come from a PCG32 stream.
 #include <cstdint>
+#include <type_traits>
 
 namespace sciray {
 
+/// What the integer mixing below is written over: std::uint32_t, or a packet of them
+/// (math/random_lanes.hpp), so that every lane draws what the scalar generator draws.
+/// Never a signed integer, whose right shifts would smear the sign.
+template <class U>
+concept Uint32Lanes = std::is_same_v<U, std::uint32_t> || !std::is_integral_v<U>;
+
 /// 32-bit integer hash (Wellons' lowbias32): cheap and well mixed.
-inline std::uint32_t hash32(std::uint32_t x) {
+template <Uint32Lanes U>
+constexpr U hash32(U x) {
   x ^= x >> 16;
-  x *= 0x7feb352dU;
+  x *= U(0x7feb352dU);
   x ^= x >> 15;
-  x *= 0x846ca68bU;
+  x *= U(0x846ca68bU);
   x ^= x >> 16;
   return x;
 }
@@ -50,11 +58,17 @@ private:
   std::uint64_t inc_;
 };
 
-constexpr std::uint32_t reverse_bits(std::uint32_t x) {
-  x = __builtin_bswap32(x);
-  x = ((x & 0x0f0f0f0fU) << 4) | ((x >> 4) & 0x0f0f0f0fU);
-  x = ((x & 0x33333333U) << 2) | ((x >> 2) & 0x33333333U);
-  x = ((x & 0x55555555U) << 1) | ((x >> 1) & 0x55555555U);
+template <Uint32Lanes U>
+constexpr U reverse_bits(U x) {
+  if constexpr (std::is_integral_v<U>) {
+    x = __builtin_bswap32(x);
+  } else {
+    x = (x << 16) | (x >> 16);
+    x = ((x & U(0x00ff00ffU)) << 8) | ((x >> 8) & U(0x00ff00ffU));
+  }
+  x = ((x & U(0x0f0f0f0fU)) << 4) | ((x >> 4) & U(0x0f0f0f0fU));
+  x = ((x & U(0x33333333U)) << 2) | ((x >> 2) & U(0x33333333U));
+  x = ((x & U(0x55555555U)) << 1) | ((x >> 1) & U(0x55555555U));
   return x;
 }
 
@@ -62,12 +76,13 @@ constexpr std::uint32_t reverse_bits(std::uint32_t x) {
 /// only on bits 0..b. Applied to a fraction's bits in reverse order it is Owen scrambling
 /// in base 2: each bit from the top flips depending only on the bits above it, so every
 /// dyadic interval maps onto one of the same size (Burley 2020).
-constexpr std::uint32_t laine_karras_permutation(std::uint32_t x, std::uint32_t seed) {
+template <Uint32Lanes U>
+constexpr U laine_karras_permutation(U x, U seed) {
   x += seed;
-  x ^= x * 0x6c50b47cU;
-  x ^= x * 0xb82f1e52U;
-  x ^= x * 0xc7afe638U;
-  x ^= x * 0x8d22f6e6U;
+  x ^= x * U(0x6c50b47cU);
+  x ^= x * U(0xb82f1e52U);
+  x ^= x * U(0xc7afe638U);
+  x ^= x * U(0x8d22f6e6U);
   return x;
 }
 
@@ -77,13 +92,17 @@ constexpr std::uint32_t laine_karras_permutation(std::uint32_t x, std::uint32_t 
 /// rows of Pascal's triangle mod 2, so its bit j is the parity of the index bits k whose
 /// binary digits include j's (Lucas's theorem): a superset sum over the five bit
 /// positions of j, five shift-and-xor steps.
-constexpr std::uint32_t sobol_first_reversed(std::uint32_t index) { return index; }
-constexpr std::uint32_t sobol_second_reversed(std::uint32_t index) {
-  index ^= (index >> 1) & 0x55555555U;
-  index ^= (index >> 2) & 0x33333333U;
-  index ^= (index >> 4) & 0x0f0f0f0fU;
-  index ^= (index >> 8) & 0x00ff00ffU;
-  index ^= (index >> 16) & 0x0000ffffU;
+template <Uint32Lanes U>
+constexpr U sobol_first_reversed(U index) {
+  return index;
+}
+template <Uint32Lanes U>
+constexpr U sobol_second_reversed(U index) {
+  index ^= (index >> 1) & U(0x55555555U);
+  index ^= (index >> 2) & U(0x33333333U);
+  index ^= (index >> 4) & U(0x0f0f0f0fU);
+  index ^= (index >> 8) & U(0x00ff00ffU);
+  index ^= (index >> 16) & U(0x0000ffffU);
   return index;
 }
 

@@ -95,11 +95,14 @@ Vec3<T> select(const M& m, const Vec3<T>& a, const Vec3<T>& b) {
   return {simd::select(m, a.x, b.x), simd::select(m, a.y, b.y), simd::select(m, a.z, b.z)};
 }
 
-/// Any unit vector perpendicular to the unit vector `n` (Duff et al. 2017, branchless ONB).
-inline Vec3f perpendicular(const Vec3f& n) {
-  const float sign = std::copysign(1.f, n.z);
-  const float a = -1.f / (sign + n.z);
-  return {1.f + sign * n.x * n.x * a, sign * n.x * n.y * a, -sign * n.x};
+/// Any unit vector perpendicular to the unit vector `n` (Duff et al. 2017, branchless ONB),
+/// per lane for packets.
+template <class T>
+Vec3<T> perpendicular(const Vec3<T>& n) {
+  using std::copysign;  // xsimd's for packets, by argument-dependent lookup
+  const T sign = copysign(T(1.f), n.z);
+  const T a = T(-1.f) / (sign + n.z);
+  return {T(1.f) + sign * n.x * n.x * a, sign * n.x * n.y * a, -sign * n.x};
 }
 
 }  // namespace sciray

@@ -174,11 +174,13 @@ inline Vec3f sample_cone(const Vec3f& axis, float cos_max, float u1, float u2) {
   return t * (sin_theta * std::cos(phi)) + b * (sin_theta * std::sin(phi)) + axis * cos_theta;
 }
 
-/// Cosine-weighted direction around the unit normal `n`.
-inline Vec3f sample_cosine(const Vec3f& n, float u1, float u2) {
-  const float r = std::sqrt(u1), phi = 2.f * pi * u2;
-  const Vec3f t = perpendicular(n), b = cross(n, t);
-  return t * (r * std::cos(phi)) + b * (r * std::sin(phi)) + n * std::sqrt(std::max(0.f, 1.f - u1));
+/// Cosine-weighted direction around the unit normal `n`, per lane for packets.
+template <class T>
+Vec3<T> sample_cosine(const Vec3<T>& n, const T& u1, const T& u2) {
+  using std::cos, std::sin;  // xsimd's for packets, by argument-dependent lookup
+  const T r = simd::sqrt(u1), phi = T(2.f * pi) * u2;
+  const Vec3<T> t = perpendicular(n), b = cross(n, t);
+  return t * (r * cos(phi)) + b * (r * sin(phi)) + n * simd::sqrt(simd::max(T(0.f), T(1.f) - u1));
 }
 
 inline float cos_half_opening(const SpotLight& s) { return std::cos(radians(0.5f * std::min(s.opening_angle, 360.f))); }

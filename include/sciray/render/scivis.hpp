@@ -29,12 +29,12 @@
 // materials without maps take the packet-wide values, as cheaply as before.
 #include <cmath>
 #include <limits>
-#include <new>
 #include <numbers>
+#include <optional>
 #include <type_traits>
 
+#include "sciray/math/random_lanes.hpp"
 #include "sciray/render/common.hpp"
-#include "sciray/math/random.hpp"
 
 namespace sciray {
 
@@ -149,19 +149,10 @@ public:
   LocalRenderer& operator=(const LocalRenderer&) = delete;
 
   PixelSample<Arch> render(const Ray<F>& camera_ray, const M& active, const SampleIndex<Arch>& index = {}) const {
-    // Constructed only where random numbers are drawn: W generators seeded for nothing
-    // cost a primary frame about 1 %.
-    static_assert(std::is_trivially_destructible_v<PixelRandom>);
-    union Generators {
-      Generators() {}
-      PixelRandom lanes[W];
-    } generators;
-    PixelRandom* rng = nullptr;
-    if (needs_random_) {
-      for (int i = 0; i < W; ++i)
-        new (&generators.lanes[i]) PixelRandom(static_cast<std::uint32_t>(simd::lane(index.pixel, i)), index.sample);
-      rng = generators.lanes;
-    }
+    // Seeded only where random numbers are drawn.
+    std::optional<PixelRandomLanes<Arch>> generators;
+    if (needs_random_) generators.emplace(index.pixel, index.sample);
+    PixelRandomLanes<Arch>* rng = generators ? &*generators : nullptr;
     const F inf(std::numeric_limits<float>::infinity());
 
     PixelSample<Arch> out;
@@ -294,7 +285,7 @@ private:
     return {simd::load<Arch>(rgb[0]), simd::load<Arch>(rgb[1]), simd::load<Arch>(rgb[2])};
   }
 
-  void shade_surfaces(const Ray<F>& ray, const accel::Hit<Arch>& hit, const M& surfaces, PixelRandom* rng,
+  void shade_surfaces(const Ray<F>& ray, const accel::Hit<Arch>& hit, const M& surfaces, PixelRandomLanes<Arch>* rng,
                       Vec3<F>& color, const Vec3<F>& transmittance, Vec3<F>& pass, PixelSample<Arch>& out,
                       bool first) const {
     for_each_hit_group<Arch>(hit, surfaces, [&](const M& lanes, std::uint32_t inst, std::uint32_t geom) {
@@ -379,7 +370,7 @@ private:
   /// `derivatives`: the surface's dP/ds and dP/dt, for a material with a normal map.
   template <class Surface>
   Shaded shade(const Ray<F>& ray, const F& t, const Surface& s, const Vec3<F>& ng_raw, const M& lanes,
-               std::uint32_t material, PixelRandom* rng, const std::array<Vec3<F>, 2>* derivatives = nullptr) const {
+               std::uint32_t material, PixelRandomLanes<Arch>* rng, const std::array<Vec3<F>, 2>* derivatives = nullptr) const {
     static const ObjMaterial default_surface;
     const bool has_material = material != no_material;
     const ObjMaterial& m = has_material ? surfaces_[material] : default_surface;
@@ -456,7 +447,7 @@ private:
   /// by surfaces with `shadows`) plus c times the ambient light (and its AO visibility).
   /// No two-sided lighting: n points out of the structure, and light behind it is not seen.
   Vec3<F> lit_volume_sample(const Vec3<F>& p, const Vec3<F>& n, const Vec3<F>& c, const F& time, const M& lanes,
-                            PixelRandom* rng) const {
+                            PixelRandomLanes<Arch>* rng) const {
     Vec3<F> lit = c * Vec3<F>(ambient_) * ambient_visibility(p, n, time, lanes, rng);
     const Vec3<F> diffuse = c * F(1.f / pi);
     for (const DirectLight& light : direct_lights_) {
@@ -533,23 +524,14 @@ private:
 
   /// The fraction of `aoSamples` cosine-weighted rays around n that nothing blocks within
   /// aoDistance (1 without samples), at each lane's ray time.
-  F ambient_visibility(const Vec3<F>& org, const Vec3<F>& n, const F& time, const M& lanes, PixelRandom* rng) const {
+  F ambient_visibility(const Vec3<F>& org, const Vec3<F>& n, const F& time, const M& lanes, PixelRandomLanes<Arch>* rng) const {
     if (params_.ao_samples == 0) return F(1.f);
     F visible(0.f);
-    alignas(64) float d[3][W];
     for (int k = 0; k < params_.ao_samples; ++k) {
-      for (int i = 0; i < W; ++i) {
-        // Only the lanes shaded here draw: a pixel's AO rays then depend on its own hits,
-        // not on what else its packet hit (nor on the packet's width or a region's clip).
-        const Vec3f normal{simd::lane(n.x, i), simd::lane(n.y, i), simd::lane(n.z, i)};
-        Vec3f w = normal;
-        if (simd::lane(lanes, i)) {
-          const auto u = rng[i].next_2d();
-          w = detail::sample_cosine(normal, u.u, u.v);
-        }
-        d[0][i] = w.x, d[1][i] = w.y, d[2][i] = w.z;
-      }
-      const Vec3<F> dir{simd::load<Arch>(d[0]), simd::load<Arch>(d[1]), simd::load<Arch>(d[2])};
+      // Only the lanes shaded here draw: a pixel's AO rays then depend on its own hits,
+      // not on what else its packet hit (nor on the packet's width or a region's clip).
+      const auto [u1, u2] = rng->next_2d(lanes);
+      const Vec3<F> dir = select(lanes, detail::sample_cosine(n, u1, u2), n);
       const Vec3<F> through = shadow_transmittance(org, dir, F(params_.ao_distance), time, lanes, ao_volumes_);
       visible = visible + (through.x + through.y + through.z) * F(1.f / 3.f);
     }
