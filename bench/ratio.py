@@ -8,7 +8,8 @@
 Prints Markdown tables: for each scene, each engine benchmark's median rays/s and its
 ratio to frame/raw_embree/intersect16/<scene>; for spheres, sciray's own intersector
 against Embree's native spheres (frame/spheres/<isa>/native/<scene>) of the same ISA;
-for renderers (bench_renderers.cpp), what each configuration costs a pixel sample as a
+for BVH builds (bench_build.cpp), the engine's build rate over raw Embree's on the same
+mesh; for renderers (bench_renderers.cpp), what each configuration costs a pixel sample as a
 multiple of primary rays, renderer/<isa>/<scene>/scivis, of the same ISA and scene:
 
     ./build/bench/sciray_bench --benchmark_filter=renderer/ --benchmark_min_time=0.2 \
@@ -33,7 +34,7 @@ def medians(path):
     out = {}
     for b in report["benchmarks"]:
         if b.get("aggregate_name", "median") == "median":
-            out[b["run_name"].removesuffix("/process_time")] = b["items_per_second"]
+            out[b["run_name"].removesuffix("/process_time").removesuffix("/real_time")] = b["items_per_second"]
     return out
 
 
@@ -64,6 +65,13 @@ def main(path):
     for name, rate in sorted(rates.items()):
         if name.startswith("frame/curves/"):
             print(f"| `{name}` | {rate / 1e6:.1f} | |")
+    builds = sorted(name for name in rates if name.startswith("build/sciray/"))
+    if builds:
+        print("\n| benchmark | Mtriangles/s | speed × raw Embree |")
+        print("|---|---:|---:|")
+        for name in builds:
+            raw = rates.get(name.replace("/sciray/", "/raw_embree/"))
+            print(f"| `{name}` | {rates[name] / 1e6:.2f} | {rates[name] / raw:.2f} |" if raw else f"| `{name}` | | n/a |")
     renderer_costs(rates)
 
 
