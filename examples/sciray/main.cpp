@@ -4,7 +4,7 @@
 //   sciray render [MESH.ply|MOLECULE.pdb|VOLUME.raw|VOLUME.nrrd|builtin:NAME] [--camera cam.json] [--size WxH]
 //                 [--isa auto|avx512|avx2|sse4.2|scalar] [--threads N] [--frames N]
 //                 [-o out.png|out.pfm] [--depth depth.pfm] [--json]
-//                 [--style ball-and-stick|space-filling] [--sphere-intersector auto|sciray|embree]
+//                 [--style ball-and-stick|space-filling] [--sphere-intersector sciray|embree]
 //                 [--clip-plane a,b,c,d]... [--clip-sphere x,y,z,r]...
 //                 [--tf tf.json] [--layout linear|bricked] [--density D] [--anisotropy G] [--sampling-rate R] [--gradient-shading S]
 //                 [--iso V]... [--slice a,b,c,d]... [--preintegration] [--adaptive-sampling]
@@ -103,7 +103,7 @@ struct RenderOptions {
   std::vector<std::string> clip_planes;   ///< "a,b,c,d" each
   std::vector<std::string> clip_spheres;  ///< "x,y,z,r" each
   std::vector<std::string> slices;        ///< "a,b,c,d" each
-  std::string sphere_intersector = "auto";
+  std::string sphere_intersector = "sciray";
   std::string bvh = "fast";
   sciray_tool::VolumeOptions volume;
   float sampling_rate = 1.f;
@@ -210,11 +210,10 @@ sciray::BvhSettings parse_bvh(const std::string& name) {
   throw sciray::Error("--bvh: expected fast, compact, dynamic or compact,dynamic, got '" + name + "'");
 }
 
-sciray::SphereIntersector parse_intersector(const std::string& name, const sciray::shim::RendererConfig& renderer) {
-  if (name == "auto") return sciray::shim::sphere_intersector_for(renderer);
+sciray::SphereIntersector parse_intersector(const std::string& name) {
   if (name == "sciray") return sciray::SphereIntersector::sciray;
   if (name == "embree") return sciray::SphereIntersector::embree;
-  throw sciray::Error("--sphere-intersector: expected auto, sciray or embree, got '" + name + "'");
+  throw sciray::Error("--sphere-intersector: expected sciray or embree, got '" + name + "'");
 }
 
 bool is_volume_file(const std::string& path) {
@@ -275,8 +274,9 @@ int render(const RenderOptions& opt) {
     // The scene's geometry goes into the world, or into one group the world instances.
     auto group = std::make_shared<sciray::shim::EngineWorld::GroupType>(device);
     sciray::shim::EngineWorld::GroupType& target = scene.instances.empty() ? world : *group;
-    world.set_bvh(parse_bvh(opt.bvh));
-    group->set_bvh(parse_bvh(opt.bvh));
+    const sciray::BvhSettings bvh = parse_bvh(opt.bvh);
+    world.set_bvh(bvh);
+    group->set_bvh(bvh);
     // --material k shades the k-th geometry added; the last one shades the rest.
     std::vector<sciray::Material> materials;
     if (scene.material && opt.materials.empty()) materials.push_back(*scene.material);
@@ -289,7 +289,6 @@ int render(const RenderOptions& opt) {
       return materials.empty() ? sciray::no_material : std::min<std::uint32_t>(k, materials.size() - 1);
     };
     std::size_t triangles = 0, vertices = 0, spheres = 0, curve_segments = 0;
-    std::string sphere_intersector = opt.sphere_intersector;  // as resolved for the renderer
     if (scene.mesh) {
       sciray::TriangleMesh mesh(std::move(*scene.mesh));
       triangles = mesh.triangle_count(), vertices = mesh.vertex_count();
@@ -297,9 +296,8 @@ int render(const RenderOptions& opt) {
     }
     if (scene.spheres) {
       spheres = scene.spheres->count();
-      const auto intersector = parse_intersector(opt.sphere_intersector, renderer_config(opt, scene.lights, materials));
-      target.add(sciray::Spheres(std::move(*scene.spheres)).set_intersector(intersector), next_material());
-      sphere_intersector = intersector == sciray::SphereIntersector::embree ? "embree" : "sciray";
+      target.add(sciray::Spheres(std::move(*scene.spheres)).set_intersector(parse_intersector(opt.sphere_intersector)),
+                 next_material());
     }
     if (scene.curves) {
       curve_segments = scene.curves->indices.size();
@@ -404,7 +402,7 @@ int render(const RenderOptions& opt) {
               {"estimated_error", std::isfinite(fb.variance()) ? nlohmann::json(fb.variance()) : nlohmann::json()},
               {"pixel_samples", opt.pixel_samples},
               {"volumes", world.volume_count()},
-              {"sphere_intersector", sphere_intersector},
+              {"sphere_intersector", opt.sphere_intersector},
               {"bvh", opt.bvh},
               {"load_ms", load_ms},
               {"bvh_build_ms", build_ms},
@@ -513,11 +511,11 @@ int main(int argc, char** argv) {
   render_cmd->add_option("--focus", opt.focus, "perspective: distance in focus (focusDistance)");
   render_cmd->add_flag("--panoramic", opt.panoramic, "a 360x180 degree panoramic camera at the view's position");
   render_cmd->add_option("--sphere-intersector", opt.sphere_intersector,
-                         "auto (the renderer's fastest: sciray for scivis and one AO ray, else embree), sciray (own "
-                         "packet intersector) or embree (Embree's point geometry)");
+                         "sciray (own packet intersector) or embree (Embree's point geometry)");
   render_cmd->add_option("--bvh", opt.bvh,
-                         "fast (default), compact (less memory), dynamic (fastest build) or compact,dynamic: the "
-                         "BVH's layout and build, as OSPRay's compactMode and dynamicScene");
+                         "fast (default), compact (less memory, quicker build, slower frames), dynamic (for scenes "
+                         "rebuilt every frame) or compact,dynamic: the BVH's layout and build, as OSPRay's "
+                         "compactMode and dynamicScene");
 
   try {
     app.parse(argc, argv);

@@ -229,41 +229,6 @@ TEST_CASE("sphere: the sciray and embree intersectors render the same image on e
   CHECK(api.messages.errors.empty());
 }
 
-TEST_CASE("sphere: intersector auto takes sciray's for scivis and one AO ray, Embree's where rays scatter",
-          "[c_api][sphere]") {
-  ApiFixture api;
-  log_debug(api.device);
-  std::vector<float> centers;
-  for (int i = 0; i < 400; ++i)
-    centers.insert(centers.end(), {0.1f * static_cast<float>(i % 20) - 1.f, 0.1f * static_cast<float>(i / 20) - 1.f,
-                                   0.05f * static_cast<float>(i % 3)});
-  GeometryScene scene(new_spheres(centers, 0.04f));
-  // The engine memory of a build tells the intersectors apart: Embree's user geometry
-  // keeps a box per sphere in its BVH, its own spheres do not.
-  const auto memory_for = [&](const char* renderer_type, int ao_samples, const char* intersector) {
-    ospSetString(scene.geometry, "intersector", intersector);
-    ospCommit(scene.geometry);
-    OSPRenderer renderer = ospNewRenderer(renderer_type);
-    if (ao_samples >= 0) ospSetInt(renderer, "aoSamples", ao_samples);
-    ospCommit(renderer);
-    OSPFrameBuffer fb = ospNewFrameBuffer(16, 16, OSP_FB_RGBA32F, OSP_FB_COLOR);
-    ospRenderFrameBlocking(fb, renderer, scene.camera, scene.world);
-    ospRelease(fb);
-    ospRelease(renderer);
-    return reported_memory(last_build_summary(api.messages));
-  };
-  const std::uint64_t own = memory_for("scivis", 0, "sciray"), embree = memory_for("scivis", 0, "embree");
-  REQUIRE(own != embree);
-  CHECK(memory_for("scivis", 0, "auto") == own);
-  CHECK(memory_for("ao", 1, "auto") == own);
-  CHECK(memory_for("ao", 4, "auto") == embree);
-  CHECK(memory_for("scivis", 2, "auto") == embree);
-  CHECK(memory_for("pathtracer", -1, "auto") == embree);
-  // A named intersector holds whatever the renderer.
-  CHECK(memory_for("pathtracer", -1, "sciray") == own);
-  CHECK(api.messages.errors.empty());
-}
-
 TEST_CASE("sphere: transformed instances move centres and scale radii; strided arrays",
           "[c_api][sphere][instancing]") {
   ApiFixture api;
@@ -427,7 +392,7 @@ TEST_CASE("sphere and curve: bad input is named through the error callback", "[c
   ospRemoveParam(spheres, "type");
   ospSetString(spheres, "intersector", "optix");
   ospCommit(spheres);
-  api.expect_error("parameter 'intersector' has unknown value 'optix' (auto, sciray, embree)");
+  api.expect_error("parameter 'intersector' has unknown value 'optix' (sciray, embree)");
   ospRemoveParam(spheres, "intersector");
   const float texcoords[6] = {};
   set_array(spheres, "sphere.texcoord", texcoords, OSP_VEC2F, 3);

@@ -587,7 +587,7 @@ FrameInputs frame_inputs(OSPFrameBuffer fb, OSPRenderer renderer, OSPCamera came
   Device& dev = device();
   BuildLog log;
   log.want_memory = dev.logs(OSP_LOG_DEBUG);  // memory_bytes walks every instance
-  in.world = w.built(dev.kernels(), log, in.renderer->sphere_intersector());
+  in.world = w.built(dev.kernels(), log);
   for (const auto& message : log.warnings) dev.warn(message);
   for (const auto& message : log.debug) dev.status(OSP_LOG_DEBUG, message);
   return in;

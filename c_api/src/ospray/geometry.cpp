@@ -200,16 +200,14 @@ void Geometry::commit_spheres() {
   const Data* normal = type == SphereType::oriented_disc
                            ? get_data(*this, find("sphere.normal"), "sphere.normal", {OSP_VEC3F})
                            : nullptr;
-  std::optional<SphereIntersector> intersector;  // auto: chosen per renderer
+  SphereIntersector intersector = SphereIntersector::sciray;
   if (const Param* p = find("intersector")) {
     if (p->type != OSP_STRING)
       throw Error(name() + ": parameter 'intersector' must be a string, got " + type_name(p->type));
     if (p->string == "embree")
       intersector = SphereIntersector::embree;
-    else if (p->string == "sciray")
-      intersector = SphereIntersector::sciray;
-    else if (p->string != "auto")
-      throw Error(name() + ": parameter 'intersector' has unknown value '" + p->string + "' (auto, sciray, embree)");
+    else if (p->string != "sciray")
+      throw Error(name() + ": parameter 'intersector' has unknown value '" + p->string + "' (sciray, embree)");
   }
 
   auto data = std::make_shared<SphereData>();
@@ -224,7 +222,7 @@ void Geometry::commit_spheres() {
   if (normal) append_per_item(data->normals, *this, "sphere.normal", *normal, count, "spheres", false, 3);
   if (texcoord) append_per_item(data->texcoords, *this, "sphere.texcoord", *texcoord, count, "spheres", false, 2);
   Spheres check(data);
-  check.set_type(type);
+  check.set_type(type).set_intersector(intersector);
   check.validate();  // "sphere: 'sphere.radius' 2 must be positive, got -1"
   bounds_ = check.bounds();
   primitive_count_ = check.count();

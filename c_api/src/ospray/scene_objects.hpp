@@ -271,8 +271,7 @@ public:
   /// The spheres as committed (owned, padded), or null; with their type and intersector.
   const std::shared_ptr<const SphereData>& spheres() const { return spheres_; }
   SphereType sphere_type() const { return sphere_type_; }
-  /// `intersector`: the one named, or none for `auto` (the renderer's choice).
-  std::optional<SphereIntersector> sphere_intersector() const { return sphere_intersector_; }
+  SphereIntersector sphere_intersector() const { return sphere_intersector_; }
   /// The curves as committed (owned, padded), or null.
   const std::shared_ptr<const CurveData>& curves() const { return curves_; }
   /// The boxes as committed, or null.
@@ -312,7 +311,7 @@ private:
   std::shared_ptr<const MeshData> mesh_;
   std::shared_ptr<const SphereData> spheres_;
   SphereType sphere_type_ = SphereType::sphere;
-  std::optional<SphereIntersector> sphere_intersector_;
+  SphereIntersector sphere_intersector_ = SphereIntersector::sciray;
   std::shared_ptr<const CurveData> curves_;
   std::shared_ptr<const BoxData> boxes_;
   std::shared_ptr<const PlaneData> planes_;
@@ -466,8 +465,6 @@ struct BuiltGroup {
   std::uint64_t version = 0;
   /// The kernels the group was committed with (sciray's intersectors are per ISA).
   const shim::IsaKernels* kernels = nullptr;
-  /// The intersector of spheres that leave it to the renderer (`intersector` auto).
-  SphereIntersector spheres = SphereIntersector::sciray;
 };
 
 /// The engine's form of a committed world: an engine world with one Embree instance per
@@ -484,8 +481,6 @@ struct BuiltWorld {
   std::unique_ptr<shim::EngineWorld> world;
   /// The kernels the world was committed with; frames and picks trace with them.
   const shim::IsaKernels* kernels = nullptr;
-  /// The intersector of spheres that leave it to the renderer (`intersector` auto).
-  SphereIntersector spheres = SphereIntersector::sciray;
   struct PlacedInstance {
     Ref<Instance> instance;
     std::size_t group;  ///< index into `groups`
@@ -524,10 +519,8 @@ class World : public Object {
 public:
   World() : Object(OSP_WORLD, "") {}
   /// The engine world for the current commits of everything this world uses, committed
-  /// through `kernels` (the rendering device's ISA), its spheres that leave the
-  /// intersector to the renderer intersected by `spheres` (shim::sphere_intersector_for).
-  std::shared_ptr<const BuiltWorld> built(const shim::IsaKernels& kernels, BuildLog& log,
-                                          SphereIntersector spheres = SphereIntersector::sciray);
+  /// through `kernels` (the rendering device's ISA).
+  std::shared_ptr<const BuiltWorld> built(const shim::IsaKernels& kernels, BuildLog& log);
   Box3f bounds() const;
   /// `region`: the boxes of the world this rank owns (mpiDistributed); empty if not set.
   const std::vector<Box3f>& regions() const { return regions_; }
@@ -537,8 +530,7 @@ protected:
   void on_commit() override;
 
 private:
-  std::shared_ptr<const BuiltGroup> build_group(Group& group, const shim::IsaKernels& kernels,
-                                                SphereIntersector spheres);
+  std::shared_ptr<const BuiltGroup> build_group(Group& group, const shim::IsaKernels& kernels);
   /// The engine material index of `material` (no_material for none), as baked (base colour
   /// in the geometry's colours) or not. Indices stay valid across builds, so that cached
   /// groups keep theirs.
@@ -574,8 +566,6 @@ public:
   explicit Renderer(std::string type) : Object(OSP_RENDERER, std::move(type)) {}
   /// The engine renderer for `world`'s lights and materials.
   shim::RendererConfig config(const BuiltWorld& world) const;
-  /// How the world's spheres are intersected for this renderer where they leave it open.
-  SphereIntersector sphere_intersector() const { return shim::sphere_intersector_for(config_); }
   const FrameSettings& frame_settings() const { return settings_; }
 
 protected:

@@ -236,8 +236,7 @@ Subdivision model_subdivision(const GeometricModel& model) {
 /// (the model's per-sphere colours times kd, or kd alone) are new, and `keep_alive` holds
 /// them and the geometry's data. A volume texture as the material's `map_kd` colours them
 /// too.
-Spheres model_spheres(const GeometricModel& model, std::vector<std::shared_ptr<const void>>& keep_alive,
-                      SphereIntersector renderers_choice) {
+Spheres model_spheres(const GeometricModel& model, std::vector<std::shared_ptr<const void>>& keep_alive) {
   const Geometry& geometry = *model.geometry();
   const SphereData& d = *geometry.spheres();
   keep_alive.push_back(geometry.spheres());
@@ -258,7 +257,7 @@ Spheres model_spheres(const GeometricModel& model, std::vector<std::shared_ptr<c
     keep_alive.push_back(std::move(colors));
   }
   Spheres spheres = Spheres::shared(a);
-  spheres.set_type(geometry.sphere_type()).set_intersector(geometry.sphere_intersector().value_or(renderers_choice));
+  spheres.set_type(geometry.sphere_type()).set_intersector(geometry.sphere_intersector());
   if (model.volume_texture()) spheres.set_volume_texture(model_volume_texture(model));
   return spheres;
 }
@@ -469,14 +468,12 @@ BuiltWorld::Origin BuiltWorld::origin(std::int32_t inst_id, std::int32_t geom_id
   return {placed.instance.get(), group.models[static_cast<std::size_t>(geom_id)].get()};
 }
 
-std::shared_ptr<const BuiltGroup> World::build_group(Group& group, const shim::IsaKernels& kernels,
-                                                     SphereIntersector spheres) {
+std::shared_ptr<const BuiltGroup> World::build_group(Group& group, const shim::IsaKernels& kernels) {
   auto built = std::make_shared<BuiltGroup>();
   built->device = device_;
   built->source = &group;
   built->version = group.geometry_version();  // its clipping models are the world's
   built->kernels = &kernels;
-  built->spheres = spheres;
   if (group.models().empty()) return built;
   built->group = std::make_shared<shim::EngineWorld::GroupType>(*device_);
   built->group->set_bvh(group.bvh());
@@ -504,7 +501,7 @@ std::shared_ptr<const BuiltGroup> World::build_group(Group& group, const shim::I
       built->group->add(std::move(geometry_of_model), material, primitive_materials);
     };
     if (geometry.spheres()) {
-      add(model_spheres(*model, built->keep_alive, spheres));
+      add(model_spheres(*model, built->keep_alive));
     } else if (geometry.curves()) {
       add(model_curves(*model));
     } else if (geometry.boxes()) {
@@ -549,11 +546,10 @@ std::uint32_t World::material_index(Material* material, bool baked, const std::o
   return static_cast<std::uint32_t>(materials_.size() - 1);
 }
 
-std::shared_ptr<const BuiltWorld> World::built(const shim::IsaKernels& kernels, BuildLog& log,
-                                               SphereIntersector spheres) {
+std::shared_ptr<const BuiltWorld> World::built(const shim::IsaKernels& kernels, BuildLog& log) {
   std::lock_guard lock(build_mutex_);
   const std::uint64_t current = version();
-  if (built_ && built_->version == current && built_->kernels == &kernels && built_->spheres == spheres) return built_;
+  if (built_ && built_->version == current && built_->kernels == &kernels) return built_;
 
   if (!device_) device_ = std::make_shared<accel::Device>();
   auto built = std::make_shared<BuiltWorld>();
@@ -561,7 +557,6 @@ std::shared_ptr<const BuiltWorld> World::built(const shim::IsaKernels& kernels, 
   built->world = std::make_unique<shim::EngineWorld>(*built->device);
   built->world->set_bvh(bvh_);
   built->kernels = &kernels;
-  built->spheres = spheres;
   std::map<const Group*, std::size_t> group_index;  // this build's groups, by OSPRay group
   std::size_t reused = 0;
   VolumeBuildStats volumes;
@@ -593,12 +588,12 @@ std::shared_ptr<const BuiltWorld> World::built(const shim::IsaKernels& kernels, 
     if (added) {
       const auto cached = group_cache_.find(group);
       if (cached != group_cache_.end() && cached->second->version == group->geometry_version() &&
-          cached->second->kernels == &kernels && cached->second->spheres == spheres) {
+          cached->second->kernels == &kernels) {
         built->groups.push_back(cached->second);  // its BVH carries over as it is
         ++reused;
       } else {
         try {
-          built->groups.push_back(build_group(*group, kernels, spheres));
+          built->groups.push_back(build_group(*group, kernels));
         } catch (const Error& e) {
           throw Error(name() + ": the group of instance " + std::to_string(i) + ", " + e.what());
         }

@@ -53,24 +53,6 @@ struct TraceResult {
 /// Which renderer, with its parameters: OSPRay's `scivis`, `ao` and `pathtracer`.
 using RendererConfig = std::variant<SciVisParams, AOParams, PathTracerParams>;
 
-/// The sphere intersector that renders `renderer` fastest, for spheres that do not name
-/// one. sciray's packet intersector tests one sphere against a whole packet and wins where
-/// a packet's rays travel together (camera rays, shadows towards one light); Embree's own
-/// spheres, tested a leaf of them against one ray, win where they scatter: path bounces,
-/// and two or more AO rays a sample (1M spheres, AVX-512: own/Embree frame time 0.87 with
-/// one AO ray a sample, 1.15 with four, 1.37 with sixteen, 1.21 path tracing).
-inline SphereIntersector sphere_intersector_for(const RendererConfig& renderer) {
-  const bool divergent = std::visit(
-      [](const auto& params) {
-        if constexpr (requires { params.ao_samples; })
-          return params.ao_samples >= 2;
-        else
-          return true;  // the path tracer
-      },
-      renderer);
-  return divergent ? SphereIntersector::embree : SphereIntersector::sciray;
-}
-
 struct IsaKernels {
   simd::Isa isa;
   /// Builds the world's BVH with sciray's own intersectors compiled for this ISA.

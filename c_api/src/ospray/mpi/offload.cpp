@@ -116,7 +116,7 @@ void run_worker(Device& device, MPI_Comm commands, MPI_Comm tiles, const mpi::Sc
     const mpi::RenderShare render_share = [&](std::span<const TileWork> share, FrameBuffer& staged) {
       if (!built) {
         BuildLog log;
-        built = world.built(device.kernels(), log, renderer.sphere_intersector());
+        built = world.built(device.kernels(), log);
       }
       built->kernels->render_tiles(*built->world, renderer.config(*built), camera.camera(), staged, share, nullptr,
                                    renderer.frame_settings());
