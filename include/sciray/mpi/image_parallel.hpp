@@ -141,7 +141,8 @@ inline void send(const Writer& message, int rank, int tag, MPI_Comm comm) {
 /// the same `early` list to every frame: requests for later frames wait there.
 inline FrameTraffic serve_frame(MPI_Comm comm, std::uint32_t frame_id, FrameBuffer& fb, const FrameSettings& settings,
                                 const Scheduling& scheduling = {}, FrameControl* control = nullptr,
-                                AccumulateTile accumulate = accumulate_tile, std::deque<EarlyMessage>* early = nullptr) {
+                                AccumulateTile accumulate = accumulate_tile,
+                                std::deque<EarlyMessage>* early = nullptr) {
   int ranks = 0, self = 0;
   check(MPI_Comm_size(comm, &ranks), "MPI_Comm_size");
   check(MPI_Comm_rank(comm, &self), "MPI_Comm_rank");
@@ -190,15 +191,15 @@ inline FrameTraffic serve_frame(MPI_Comm comm, std::uint32_t frame_id, FrameBuff
       MPI_Status status;
       check(MPI_Iprobe(MPI_ANY_SOURCE, MPI_ANY_TAG, comm, &arrived, &status), "MPI_Iprobe");
       if (!arrived) {
-      if (std::chrono::steady_clock::now() > deadline) {
-        std::string silent;
-        for (int r = 0; r < ranks; ++r)
-          if (!finished[static_cast<std::size_t>(r)]) silent += (silent.empty() ? "" : ", ") + std::to_string(r);
-        fb.reset_accumulation();
-        throw Error("mpi: frame " + std::to_string(frame_id) + ": no answer from rank(s) " + silent + " within " +
-                    std::to_string(scheduling.timeout_seconds) +
-                    " s (a rank died, never started, or is not rendering this frame)");
-      }
+        if (std::chrono::steady_clock::now() > deadline) {
+          std::string silent;
+          for (int r = 0; r < ranks; ++r)
+            if (!finished[static_cast<std::size_t>(r)]) silent += (silent.empty() ? "" : ", ") + std::to_string(r);
+          fb.reset_accumulation();
+          throw Error("mpi: frame " + std::to_string(frame_id) + ": no answer from rank(s) " + silent + " within " +
+                      std::to_string(scheduling.timeout_seconds) +
+                      " s (a rank died, never started, or is not rendering this frame)");
+        }
         std::this_thread::sleep_for(std::chrono::microseconds(50));
         continue;
       }
