@@ -84,6 +84,32 @@ TEST_CASE("trilinear samples of a linear field are exact, for every voxel type a
   check_trilinear_sampling<std::int16_t, BrickedLayout>();
 }
 
+TEST_CASE("packets gather uint8 corners from a misaligned array up to its last voxel as lane-by-lane loads do",
+          "[volume][simd]") {
+  const VolumeDims d{5, 4, 3};
+  for (std::size_t start = 0; start < 4; ++start) {
+    // The voxels at every alignment, the last one at the very end of the allocation.
+    std::vector<std::uint8_t> storage(start + 60);
+    for (std::size_t i = 0; i < 60; ++i) storage[start + i] = static_cast<std::uint8_t>(251 - 4 * i);
+    const StructuredRegular<std::uint8_t> volume(LinearLayout<std::uint8_t>(storage.data() + start, d), VolumeGrid{});
+    REQUIRE(volume.layout().gathers_cells());
+    using A = xsimd::default_arch;
+    constexpr int W = simd::width<A>;
+    for (int i = 0; i < 64; ++i) {
+      alignas(64) float p[3][W];
+      for (int k = 0; k < W; ++k)
+        for (int a = 0; a < 3; ++a)  // up to and past the far corner, where the last cell is read
+          p[a][k] = static_cast<float>(d[a]) * static_cast<float>(testing::hash_uniform(3 * (W * i + k) + a));
+      const auto packet = volume.template sample<A>({simd::load<A>(p[0]), simd::load<A>(p[1]), simd::load<A>(p[2])});
+      for (int k = 0; k < W; ++k) {
+        INFO("start " << start << ", position " << p[0][k] << " " << p[1][k] << " " << p[2][k]);
+        CHECK(simd::lane(packet, k) == Approx(volume.template sample<simd::scalar>(Vec3f{p[0][k], p[1][k], p[2][k]}))
+                                           .epsilon(1e-6));
+      }
+    }
+  }
+}
+
 TEST_CASE("volumes are shaded with the trilinear interpolant's own gradient, as Open VKL's (OSPRay's gradient shading)",
           "[volume]") {
   // Values 0, 1, 2, 1, 0 along z (OSPRay's Transparency scene's volume across its depth),

@@ -9,7 +9,9 @@
 //    superbricks), a copy whose neighbourhoods share cache lines and pages.
 // Both address voxels with 64-bit indices, so volumes over 2^32 voxels and 4 GiB work.
 // A packet's positions are turned into cells in registers; the eight corner values are
-// loaded lane by lane (a 64-bit gather) and interpolated in registers again.
+// loaded lane by lane (a 64-bit gather) and interpolated in registers again, except in
+// linear uint8 and float volumes of fewer than 2^31 voxels, whose corners packets load
+// with the hardware's gathers of 32-bit offsets.
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -43,7 +45,11 @@ template <VoxelType Voxel>
 class LinearLayout {
 public:
   LinearLayout(const Voxel* data, VolumeDims dims, std::shared_ptr<const void> owner = {})
-      : data_(data), dims_(dims), owner_(std::move(owner)) {}
+      : data_(data), dims_(dims), owner_(std::move(owner)) {
+    constexpr bool gatherable = std::is_same_v<Voxel, std::uint8_t> || std::is_same_v<Voxel, float>;
+    // Offsets of every voxel, plus the few bytes of a misaligned start, fit an int32.
+    gathers_ = gatherable && dims[0] * dims[1] * dims[2] < (std::int64_t{1} << 31) - 4;
+  }
 
   const VolumeDims& dims() const { return dims_; }
   float at(std::int64_t x, std::int64_t y, std::int64_t z) const {
@@ -60,10 +66,39 @@ public:
   }
   std::size_t owned_bytes() const { return 0; }
 
+  /// Whether cell_packet may be called: uint8 or float voxels, fewer than 2^31 of them.
+  bool gathers_cells() const { return gathers_; }
+  /// cell() for a packet of cells whose lower corners are (x, y, z), by hardware gathers.
+  template <class Arch>
+  std::array<simd::Float<Arch>, 8> cell_packet(const simd::Int<Arch>& x, const simd::Int<Arch>& y,
+                                                const simd::Int<Arch>& z) const {
+    using I = simd::Int<Arch>;
+    const auto row = static_cast<std::int32_t>(dims_[0]), slice = static_cast<std::int32_t>(dims_[0] * dims_[1]);
+    const I at = x + y * I(row) + z * I(slice);
+    const std::int32_t step[8] = {0, 1, row, row + 1, slice, slice + 1, slice + row, slice + row + 1};
+    std::array<simd::Float<Arch>, 8> out;
+    if constexpr (std::is_same_v<Voxel, float>) {
+      for (int k = 0; k < 8; ++k) out[k] = simd::gather<Arch>(data_, at + I(step[k]));
+    } else {
+      // Bytes as the aligned 4-byte words that hold them: such a word never leaves the
+      // page of the byte it holds, so reading it cannot fault past the array's end.
+      const auto address = reinterpret_cast<std::uintptr_t>(data_);
+      const auto* words = reinterpret_cast<const std::int32_t*>(address & ~std::uintptr_t{3});
+      const I skew(static_cast<std::int32_t>(address & 3));
+      for (int k = 0; k < 8; ++k) {
+        const I offset = at + I(step[k]) + skew;
+        const I word = simd::gather<Arch>(words, offset >> 2);
+        out[k] = simd::to_float((word >> ((offset & I(3)) << 3)) & I(0xFF));
+      }
+    }
+    return out;
+  }
+
 private:
   const Voxel* data_;
   VolumeDims dims_;
   std::shared_ptr<const void> owner_;
+  bool gathers_ = false;
 };
 
 /// Two-level bricking: voxel (x, y, z) lives in brick (x/8, y/8, z/8), which lives in
@@ -183,6 +218,21 @@ public:
       return simd::min(simd::max(v, F(0.f)), F(static_cast<float>(n - 1)));
     };
     const Vec3<F> c{clamp(g.x, d[0]), clamp(g.y, d[1]), clamp(g.z, d[2])};
+    const auto lerp = [](const F& a, const F& b, const F& t) { return simd::fma(b - a, t, a); };
+    if constexpr (!std::is_same_v<Arch, simd::scalar> && requires { layout_.gathers_cells(); }) {
+      if (filter_ == VolumeFilter::linear && layout_.gathers_cells()) {
+        using I = simd::Int<Arch>;
+        // The cell's lower corner, kept one short of the last voxel so the cell exists.
+        const auto lower = [](const F& v, std::int64_t n) {
+          return xsimd::min(simd::to_int(v), I(static_cast<std::int32_t>(n - 2)));
+        };
+        const I x = lower(c.x, d[0]), y = lower(c.y, d[1]), z = lower(c.z, d[2]);
+        const F wx = c.x - simd::to_float(x), wy = c.y - simd::to_float(y), wz = c.z - simd::to_float(z);
+        const auto v = layout_.template cell_packet<Arch>(x, y, z);
+        return lerp(lerp(lerp(v[0], v[1], wx), lerp(v[2], v[3], wx), wy),
+                    lerp(lerp(v[4], v[5], wx), lerp(v[6], v[7], wx), wy), wz);
+      }
+    }
     constexpr int W = simd::width<Arch>;
     alignas(64) float cx[W], cy[W], cz[W];
     store<Arch>(cx, c.x), store<Arch>(cy, c.y), store<Arch>(cz, c.z);
@@ -209,7 +259,6 @@ public:
       for (int k = 0; k < 8; ++k) corners[k][i] = cell[k];
     }
     const F wx = load<Arch>(fx), wy = load<Arch>(fy), wz = load<Arch>(fz);
-    const auto lerp = [](const F& a, const F& b, const F& t) { return simd::fma(b - a, t, a); };
     const F x00 = lerp(load<Arch>(corners[0]), load<Arch>(corners[1]), wx);
     const F x10 = lerp(load<Arch>(corners[2]), load<Arch>(corners[3]), wx);
     const F x01 = lerp(load<Arch>(corners[4]), load<Arch>(corners[5]), wx);
