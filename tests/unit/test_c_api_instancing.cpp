@@ -419,8 +419,7 @@ TEST_CASE("box and plane: bad input is named through the error callback", "[c_ap
   for (OSPObject o : std::initializer_list<OSPObject>{box, model, plane}) ospRelease(o);
 }
 
-
-TEST_CASE("compactMode and dynamicScene of groups and worlds: the same image, a smaller or faster-built BVH",
+TEST_CASE("compactMode and dynamicScene of groups and worlds: the same image, and compact leaves take less memory",
           "[c_api][instancing][memory]") {
   ApiFixture api;
   log_debug(api.device);
@@ -452,4 +451,3 @@ TEST_CASE("compactMode and dynamicScene of groups and worlds: the same image, a 
     CHECK(differing == 0);
   }
 }
-
