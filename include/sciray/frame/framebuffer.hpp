@@ -72,11 +72,10 @@ inline constexpr std::uint32_t no_id = 0xFFFFFFFFu;
 namespace detail {
 /// sRGB (or OSPRay's gamma 2.2) encoding through a table indexed by the linear value
 /// quantized to 16 bits: a std::pow per channel would cost as much as tracing the ray.
-/// Three bytes of padding let packets look the table up with 4-byte hardware gathers.
-inline const std::array<std::uint8_t, 65536 + 3>& encoding_table(ColorFormat format) {
+inline const std::array<std::uint8_t, 65536>& encoding_table(ColorFormat format) {
   const auto make = [](auto encode) {
-    std::array<std::uint8_t, 65536 + 3> t{};
-    for (std::size_t i = 0; i < 65536; ++i) t[i] = to_unorm8(encode(static_cast<float>(i) / 65535.f));
+    std::array<std::uint8_t, 65536> t{};
+    for (std::size_t i = 0; i < t.size(); ++i) t[i] = to_unorm8(encode(static_cast<float>(i) / 65535.f));
     return t;
   };
   static const auto srgb = make([](float v) { return linear_to_srgb(v); });

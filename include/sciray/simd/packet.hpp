@@ -168,29 +168,6 @@ void store(std::int32_t* p, const Int<Arch>& v) {
     v.store_unaligned(p);
 }
 
-/// Reads the byte base[index[i]] for each lane, widened to 32 bits. The hardware gathers
-/// load 4 bytes at each address: `base` must be readable 3 bytes past the last index.
-template <class Arch>
-Int<Arch> gather_bytes(const std::uint8_t* base, const Int<Arch>& index) {
-  if constexpr (std::is_same_v<Arch, scalar>) {
-    return base[index];
-  } else {
-#if defined(__AVX512F__)
-    if constexpr (std::is_base_of_v<xsimd::avx512f, Arch>)
-      return Int<Arch>(_mm512_i32gather_epi32(index, base, 1)) & Int<Arch>(0xFF);
-#endif
-#if defined(__AVX2__)
-    if constexpr (std::is_base_of_v<xsimd::avx2, Arch>)
-      return Int<Arch>(_mm256_i32gather_epi32(reinterpret_cast<const int*>(base), index, 1)) & Int<Arch>(0xFF);
-#endif
-    alignas(64) std::int32_t at[width<Arch>];
-    alignas(64) std::int32_t values[width<Arch>];
-    index.store_aligned(at);
-    for (int i = 0; i < width<Arch>; ++i) values[i] = base[at[i]];
-    return Int<Arch>::load_aligned(values);
-  }
-}
-
 /// Reads base[index[i]] for each lane (`index` in elements). xsimd 8.1 gathers AVX-512
 /// batches one lane at a time, so the hardware gathers are called directly.
 template <class Arch, class T>
@@ -221,6 +198,32 @@ auto gather(const T* base, const Int<Arch>& index) {
     index.store_aligned(at);
     for (int i = 0; i < width<Arch>; ++i) values[i] = base[at[i]];
     return Batch::load_aligned(values);
+  }
+}
+
+/// Reads the byte base[index[i]] for each lane, widened to 32 bits (index + 3 must fit an
+/// int32). The hardware gathers load the aligned 4-byte words that hold the bytes: such a
+/// word never leaves the page of the byte it holds, so no read faults past the array.
+template <class Arch>
+Int<Arch> gather_bytes(const std::uint8_t* base, const Int<Arch>& index) {
+  if constexpr (std::is_same_v<Arch, scalar>) {
+    return base[index];
+  } else {
+#if defined(__AVX2__)
+    if constexpr (std::is_base_of_v<xsimd::avx2, Arch> || std::is_base_of_v<xsimd::avx512f, Arch>) {
+      using I = Int<Arch>;
+      const auto address = reinterpret_cast<std::uintptr_t>(base);
+      const auto* words = reinterpret_cast<const std::int32_t*>(address & ~std::uintptr_t{3});
+      const I offset = index + I(static_cast<std::int32_t>(address & 3));
+      const I word = gather<Arch>(words, offset >> 2);
+      return (word >> ((offset & I(3)) << 3)) & I(0xFF);
+    }
+#endif
+    alignas(64) std::int32_t at[width<Arch>];
+    alignas(64) std::int32_t values[width<Arch>];
+    index.store_aligned(at);
+    for (int i = 0; i < width<Arch>; ++i) values[i] = base[at[i]];
+    return Int<Arch>::load_aligned(values);
   }
 }
 

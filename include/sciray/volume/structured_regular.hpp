@@ -46,10 +46,11 @@ class LinearLayout {
 public:
   LinearLayout(const Voxel* data, VolumeDims dims, std::shared_ptr<const void> owner = {})
       : data_(data), dims_(dims), owner_(std::move(owner)) {
-    constexpr bool gatherable = std::is_same_v<Voxel, std::uint8_t> || std::is_same_v<Voxel, float>;
-    // Offsets of every voxel, plus the few bytes of a misaligned start, fit an int32.
-    gathers_ = gatherable && dims[0] * dims[1] * dims[2] < (std::int64_t{1} << 31) - 4;
+    // Offsets of every voxel, plus the few bytes of a misaligned start (gather_bytes), fit an int32.
+    gathers_ = gatherable_voxels && dims[0] * dims[1] * dims[2] < (std::int64_t{1} << 31) - 4;
   }
+  /// Voxel types whose packets cell_packet gathers.
+  static constexpr bool gatherable_voxels = std::is_same_v<Voxel, std::uint8_t> || std::is_same_v<Voxel, float>;
 
   const VolumeDims& dims() const { return dims_; }
   float at(std::int64_t x, std::int64_t y, std::int64_t z) const {
@@ -66,7 +67,7 @@ public:
   }
   std::size_t owned_bytes() const { return 0; }
 
-  /// Whether cell_packet may be called: uint8 or float voxels, fewer than 2^31 of them.
+  /// Whether cell_packet may be called: gatherable voxels, fewer than 2^31 of them.
   bool gathers_cells() const { return gathers_; }
   /// cell() for a packet of cells whose lower corners are (x, y, z), by hardware gathers.
   template <class Arch>
@@ -77,19 +78,11 @@ public:
     const I at = x + y * I(row) + z * I(slice);
     const std::int32_t step[8] = {0, 1, row, row + 1, slice, slice + 1, slice + row, slice + row + 1};
     std::array<simd::Float<Arch>, 8> out;
-    if constexpr (std::is_same_v<Voxel, float>) {
-      for (int k = 0; k < 8; ++k) out[k] = simd::gather<Arch>(data_, at + I(step[k]));
-    } else {
-      // Bytes as the aligned 4-byte words that hold them: such a word never leaves the
-      // page of the byte it holds, so reading it cannot fault past the array's end.
-      const auto address = reinterpret_cast<std::uintptr_t>(data_);
-      const auto* words = reinterpret_cast<const std::int32_t*>(address & ~std::uintptr_t{3});
-      const I skew(static_cast<std::int32_t>(address & 3));
-      for (int k = 0; k < 8; ++k) {
-        const I offset = at + I(step[k]) + skew;
-        const I word = simd::gather<Arch>(words, offset >> 2);
-        out[k] = simd::to_float((word >> ((offset & I(3)) << 3)) & I(0xFF));
-      }
+    for (int k = 0; k < 8; ++k) {
+      if constexpr (std::is_same_v<Voxel, float>)
+        out[k] = simd::gather<Arch>(data_, at + I(step[k]));
+      else
+        out[k] = simd::to_float(simd::gather_bytes<Arch>(data_, at + I(step[k])));
     }
     return out;
   }
@@ -219,7 +212,7 @@ public:
     };
     const Vec3<F> c{clamp(g.x, d[0]), clamp(g.y, d[1]), clamp(g.z, d[2])};
     const auto lerp = [](const F& a, const F& b, const F& t) { return simd::fma(b - a, t, a); };
-    if constexpr (!std::is_same_v<Arch, simd::scalar> && requires { layout_.gathers_cells(); }) {
+    if constexpr (!std::is_same_v<Arch, simd::scalar> && requires { requires Layout<Voxel>::gatherable_voxels; }) {
       if (filter_ == VolumeFilter::linear && layout_.gathers_cells()) {
         using I = simd::Int<Arch>;
         // The cell's lower corner, kept one short of the last voxel so the cell exists.
