@@ -1,8 +1,8 @@
 #pragma once
 // One frame: the image is cut into tiles that oneTBB renders in parallel; inside a
 // tile the camera generates one packet per stamp of W pixels (4x1, 4x2, 4x4 for
-// W = 4, 8, 16) and sample, the renderer traces and shades it, and the frame buffer
-// accumulates the frame's average. Every sample's position on the film and the lens
+// W = 4, 8, 16) and sample, the renderer traces and shades it (a stream renderer takes
+// the packets of all stamps at once), and the frame buffer accumulates the frame's average. Every sample's position on the film and the lens
 // depends only on its pixel and sample index, so the image is the same for any number
 // of threads.
 #include <algorithm>
@@ -14,6 +14,7 @@
 #include <span>
 #include <string>
 #include <variant>
+#include <vector>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -71,6 +72,14 @@ template <class R, class Arch>
 concept PacketRenderer = requires(const R& renderer, const Ray<simd::Float<Arch>>& ray, const simd::Mask<Arch>& active,
                                   const SampleIndex<Arch>& index) {
   { renderer.render(ray, active, index) } -> std::same_as<PixelSample<Arch>>;
+};
+
+/// A renderer that takes all camera packets of a tile's sample at once (the path tracer,
+/// which regroups their paths after every bounce); results come one per packet.
+template <class R, class Arch>
+concept StreamRenderer = requires(const R& renderer, std::span<const CameraPacket<Arch>> packets,
+                                  std::span<PixelSample<Arch>> results) {
+  renderer.render_stream(packets, results);
 };
 
 /// What render_frame needs of a camera: prepare()'s result, generating packets of rays
@@ -182,9 +191,22 @@ std::uint32_t render_tiles(const Renderer& renderer, const CameraT& camera, Fram
 
   const bool first_hit_channels = fb.has(channel_depth) || fb.has(channel_id_primitive) ||
                                   fb.has(channel_id_object) || fb.has(channel_id_instance);
-  tbb::parallel_for(tbb::blocked_range<int>(0, tile_count), [&](const tbb::blocked_range<int>& range) {
+  // A tile's stamps: the pixels of each and its frame, summed over the samples.
+  struct StampFrame {
     alignas(64) std::int32_t pixel[W];
+    M active;
+    simd::Int<Arch> pixels;
+    F pixel_x, pixel_y;
+    std::optional<CameraSequence<Arch>> sequence;
+    PixelSample<Arch> frame;
+    F projected;
+  };
+  constexpr int max_stamps = (tile_size / S::width) * (tile_size / S::height);
+  tbb::parallel_for(tbb::blocked_range<int>(0, tile_count), [&](const tbb::blocked_range<int>& range) {
     alignas(64) float inside[W];
+    std::vector<StampFrame> stamps(max_stamps);
+    std::vector<CameraPacket<Arch>> packets(max_stamps);
+    std::vector<PixelSample<Arch>> results(max_stamps);
     for (int work = range.begin(); work != range.end(); ++work) {
       if (control && control->cancel.load(std::memory_order_relaxed)) return;
       const int tile = share ? (*share)[static_cast<std::size_t>(work)].tile : work;
@@ -193,83 +215,99 @@ std::uint32_t render_tiles(const Renderer& renderer, const CameraT& camera, Fram
             share ? (*share)[static_cast<std::size_t>(work)].frames_before : fb.tile_frames(tile);
         const std::uint32_t first_sample = tile_frames * samples;
         const int tile_x0 = (tile % fb.tiles_x()) * tile_size, tile_y0 = (tile / fb.tiles_x()) * tile_size;
+        std::size_t stamp_count = 0;
         for (int y0 = tile_y0; y0 < std::min(tile_y0 + tile_size, height); y0 += S::height) {
           for (int x0 = tile_x0; x0 < std::min(tile_x0 + tile_size, width); x0 += S::width) {
-            M active;
-            simd::Int<Arch> pixels;
+            StampFrame& stamp = stamps[stamp_count++];
             if (x0 + S::width <= width && y0 + S::height <= height) {
-              pixels = simd::Int<Arch>(y0 * width + x0) + lane_offsets;
-              simd::store<Arch>(pixel, pixels);
-              active = M(true);
+              stamp.pixels = simd::Int<Arch>(y0 * width + x0) + lane_offsets;
+              simd::store<Arch>(stamp.pixel, stamp.pixels);
+              stamp.active = M(true);
             } else {
               for (int i = 0; i < W; ++i) {
                 const int x = x0 + i % S::width, y = y0 + i / S::width;
-                pixel[i] = x < width && y < height ? y * width + x : -1;
-                inside[i] = pixel[i] >= 0 ? 1.f : 0.f;
+                stamp.pixel[i] = x < width && y < height ? y * width + x : -1;
+                inside[i] = stamp.pixel[i] >= 0 ? 1.f : 0.f;
               }
-              active = simd::load<Arch>(inside) > F(0.f);
-              pixels = simd::load<Arch>(pixel);
+              stamp.active = simd::load<Arch>(inside) > F(0.f);
+              stamp.pixels = simd::load<Arch>(stamp.pixel);
             }
-            const F pixel_x = F(static_cast<float>(x0) + 0.5f) + lane_dx;
-            const F pixel_y = F(static_cast<float>(y0) + 0.5f) + lane_dy;
-            const F center_x = pixel_x * F(inv_width), center_y = pixel_y * F(inv_height);
-            std::optional<CameraSequence<Arch>> sequence;
-            if (uses_lens) sequence.emplace(pixels);
-            // Sample s of every lane, and its projected depth.
-            F projected;
-            const auto render_sample = [&](std::uint32_t s) {
-              const std::uint32_t sample_index = first_sample + s;
-              CameraSamples<F> cs{F(0.5f), F(0.5f)};
-              if (uses_lens) cs = (*sequence)(sample_index);
-              F offset_x, offset_y;
-              if (film_per_pixel) {
-                alignas(64) float ox[W], oy[W];
-                for (int i = 0; i < W; ++i) {
-                  const auto [u, v] = path_film_point(static_cast<std::uint32_t>(pixel[i]), sample_index);
-                  const FilterOffset o = filter.sample(u, v);
-                  ox[i] = o.x, oy[i] = o.y;
-                }
-                offset_x = simd::load<Arch>(ox), offset_y = simd::load<Arch>(oy);
-              } else {
-                const auto [u, v] = pixel_sample_point(sample_index);
-                const FilterOffset offset = filter.sample(u, v);
-                offset_x = F(offset.x), offset_y = F(offset.y);
-              }
-              const F screen_x = (pixel_x + offset_x) * F(inv_width);
-              const F screen_y = (pixel_y + offset_y) * F(inv_height);
-              const F time_u = uses_time ? time_sample<Arch>(pixels, sample_index) : F(0.5f);
-              const auto ray = camera.generate(screen_x, screen_y, cs.lens_u, cs.lens_v, time_u);
-              PixelSample<Arch> one =
-                  renderer.render(ray, active, SampleIndex<Arch>{pixels, sample_index, screen_x, screen_y, center_x,
-                                                                 center_y, first_hit_channels});
-              projected = camera.projected_depth(ray, one.t);
-              return one;
-            };
-            PixelSample<Arch> frame = render_sample(0);
-            F frame_projected = projected;
-            for (std::uint32_t s = 1; s < samples; ++s) {
-              const PixelSample<Arch> one = render_sample(s);
-              frame.color += one.color;
-              frame.alpha = frame.alpha + one.alpha;
-              frame.normal += one.normal;
-              frame.albedo += one.albedo;
-              const M nearer = one.t < frame.t;
-              frame.t = simd::select(nearer, one.t, frame.t);
-              frame_projected = simd::select(nearer, projected, frame_projected);
-              const M takes_ids = ids_from_nearest ? nearer : M(true);
-              frame.prim_id = simd::select(takes_ids, one.prim_id, frame.prim_id);
-              frame.geom_id = simd::select(takes_ids, one.geom_id, frame.geom_id);
-              frame.inst_id = simd::select(takes_ids, one.inst_id, frame.inst_id);
-            }
-            if (samples > 1) {
-              frame.color = frame.color * inv_samples;
-              frame.alpha = frame.alpha * inv_samples;
-              frame.normal = frame.normal * inv_samples;
-              frame.albedo = frame.albedo * inv_samples;
-            }
-            // A share's frame buffer stages this frame alone: each value is the frame's.
-            fb.write_packet<Arch>(pixel, frame, frame_projected, share ? 0u : tile_frames);
+            stamp.pixel_x = F(static_cast<float>(x0) + 0.5f) + lane_dx;
+            stamp.pixel_y = F(static_cast<float>(y0) + 0.5f) + lane_dy;
+            stamp.sequence.reset();
+            if (uses_lens) stamp.sequence.emplace(stamp.pixels);
           }
+        }
+        // Sample s of every stamp of the tile, rendered together (a stream renderer
+        // regroups their paths), then summed into the stamps' frames.
+        for (std::uint32_t s = 0; s < samples; ++s) {
+          const std::uint32_t sample_index = first_sample + s;
+          for (std::size_t k = 0; k < stamp_count; ++k) {
+            const StampFrame& stamp = stamps[k];
+            CameraSamples<F> cs{F(0.5f), F(0.5f)};
+            if (uses_lens) cs = (*stamp.sequence)(sample_index);
+            F offset_x, offset_y;
+            if (film_per_pixel) {
+              alignas(64) float ox[W], oy[W];
+              for (int i = 0; i < W; ++i) {
+                const auto [u, v] = path_film_point(static_cast<std::uint32_t>(stamp.pixel[i]), sample_index);
+                const FilterOffset o = filter.sample(u, v);
+                ox[i] = o.x, oy[i] = o.y;
+              }
+              offset_x = simd::load<Arch>(ox), offset_y = simd::load<Arch>(oy);
+            } else {
+              const auto [u, v] = pixel_sample_point(sample_index);
+              const FilterOffset offset = filter.sample(u, v);
+              offset_x = F(offset.x), offset_y = F(offset.y);
+            }
+            const F screen_x = (stamp.pixel_x + offset_x) * F(inv_width);
+            const F screen_y = (stamp.pixel_y + offset_y) * F(inv_height);
+            const F time_u = uses_time ? time_sample<Arch>(stamp.pixels, sample_index) : F(0.5f);
+            packets[k] = {camera.generate(screen_x, screen_y, cs.lens_u, cs.lens_v, time_u), stamp.active,
+                          SampleIndex<Arch>{stamp.pixels, sample_index, screen_x, screen_y,
+                                            stamp.pixel_x * F(inv_width), stamp.pixel_y * F(inv_height),
+                                            first_hit_channels}};
+          }
+          if constexpr (StreamRenderer<Renderer, Arch>) {
+            renderer.render_stream(std::span<const CameraPacket<Arch>>(packets.data(), stamp_count),
+                                   std::span<PixelSample<Arch>>(results.data(), stamp_count));
+          } else {
+            for (std::size_t k = 0; k < stamp_count; ++k)
+              results[k] = renderer.render(packets[k].ray, packets[k].active, packets[k].index);
+          }
+          for (std::size_t k = 0; k < stamp_count; ++k) {
+            StampFrame& stamp = stamps[k];
+            const PixelSample<Arch>& one = results[k];
+            const F projected = camera.projected_depth(packets[k].ray, one.t);
+            if (s == 0) {
+              stamp.frame = one;
+              stamp.projected = projected;
+              continue;
+            }
+            PixelSample<Arch>& frame = stamp.frame;
+            frame.color += one.color;
+            frame.alpha = frame.alpha + one.alpha;
+            frame.normal += one.normal;
+            frame.albedo += one.albedo;
+            const M nearer = one.t < frame.t;
+            frame.t = simd::select(nearer, one.t, frame.t);
+            stamp.projected = simd::select(nearer, projected, stamp.projected);
+            const M takes_ids = ids_from_nearest ? nearer : M(true);
+            frame.prim_id = simd::select(takes_ids, one.prim_id, frame.prim_id);
+            frame.geom_id = simd::select(takes_ids, one.geom_id, frame.geom_id);
+            frame.inst_id = simd::select(takes_ids, one.inst_id, frame.inst_id);
+          }
+        }
+        for (std::size_t k = 0; k < stamp_count; ++k) {
+          PixelSample<Arch>& frame = stamps[k].frame;
+          if (samples > 1) {
+            frame.color = frame.color * inv_samples;
+            frame.alpha = frame.alpha * inv_samples;
+            frame.normal = frame.normal * inv_samples;
+            frame.albedo = frame.albedo * inv_samples;
+          }
+          // A share's frame buffer stages this frame alone: each value is the frame's.
+          fb.write_packet<Arch>(stamps[k].pixel, frame, stamps[k].projected, share ? 0u : tile_frames);
         }
         fb.finish_tile(tile);
         tiles_rendered.fetch_add(1, std::memory_order_relaxed);

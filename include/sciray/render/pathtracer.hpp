@@ -7,7 +7,8 @@
 // sampling, Veach 1997), so that small bright lights and sharp highlights both converge.
 // Paths end by Russian roulette after `roulettePathLength` bounces, at `maxPathLength`,
 // or when the BSDF absorbs them; `maxContribution` clamps fireflies (biased, off by
-// default). Rays travel in packets; each lane's path is shaded on its own.
+// default). The paths of a tile travel as a stream: after every bounce the live ones are
+// packed into full packets again (render_stream).
 //
 // Emissive geometry (luminous, principled emissiveColor) is a light too: meshes and
 // spheres, direct or instanced, moving or deforming, are sampled by area
@@ -31,9 +32,12 @@
 // transmittance that ratio tracking estimates along the shadow ray. Volumes do not emit.
 // As in OSPRay, a camera path's first collision with a volume is its first hit: alpha 1,
 // depth and ids (primitive 0, the volume's object and instance ids) are there.
+#include <array>
 #include <cmath>
 #include <limits>
 #include <optional>
+#include <span>
+#include <vector>
 
 #include "sciray/math/random.hpp"
 #include "sciray/render/bsdf.hpp"
@@ -104,195 +108,75 @@ public:
   /// OSPRay's path tracer keeps them; scivis and ao keep the last sample's.
   bool ids_from_nearest_sample() const { return true; }
 
+  /// One packet of camera rays: a stream of one packet.
   PixelSample<Arch> render(const Ray<F>& camera_ray, const M& active, const SampleIndex<Arch>& index = {}) const {
-    constexpr float inf = std::numeric_limits<float>::infinity();
-    Path path[W];
-    for (int i = 0; i < W; ++i) {
-      path[i].rng = PixelRandom(static_cast<std::uint32_t>(simd::lane(index.pixel, i)), index.sample);
-      path[i].alive = simd::lane(active, i);
-      path[i].org = {simd::lane(camera_ray.org.x, i), simd::lane(camera_ray.org.y, i), simd::lane(camera_ray.org.z, i)};
-      path[i].dir = {simd::lane(camera_ray.dir.x, i), simd::lane(camera_ray.dir.y, i), simd::lane(camera_ray.dir.z, i)};
-      path[i].time = simd::lane(camera_ray.time, i);
-    }
-    const F camera_reach = detail::max_depth<Arch>(params_, active, index);
+    const CameraPacket<Arch> packet{camera_ray, active, index};
     PixelSample<Arch> out;
-    out.t = F(inf);
-    alignas(64) float first[7][W];  // t, normal, albedo of the first hit
-    alignas(64) std::int32_t ids[3][W];
-    for (int i = 0; i < W; ++i) {
-      for (auto& channel : first) channel[i] = 0.f;
-      first[0][i] = inf;
-      for (auto& id : ids) id[i] = -1;
-    }
-
-    for (int depth = 0; depth <= params_.max_path_length; ++depth) {
-      // The live paths' rays as a packet (bounce rays start off the surface: tnear 0).
-      alignas(64) float lanes[7][W];
-      bool any_alive = false;
-      for (int i = 0; i < W; ++i) {
-        const Path& p = path[i];
-        any_alive |= p.alive;
-        const float v[7] = {p.org.x, p.org.y, p.org.z, p.dir.x, p.dir.y, p.dir.z, p.alive ? 1.f : 0.f};
-        for (int c = 0; c < 7; ++c) lanes[c][i] = v[c];
-      }
-      if (!any_alive) break;
-      Ray<F> ray;
-      ray.org = {simd::load<Arch>(lanes[0]), simd::load<Arch>(lanes[1]), simd::load<Arch>(lanes[2])};
-      ray.dir = {simd::load<Arch>(lanes[3]), simd::load<Arch>(lanes[4]), simd::load<Arch>(lanes[5])};
-      ray.tnear = depth == 0 ? camera_ray.tnear : F(0.f);  // the camera's near clip
-      ray.tfar = depth == 0 ? camera_reach : F(inf);
-      ray.time = camera_ray.time;
-      const M live = simd::load<Arch>(lanes[6]) > F(0.f);
-      const auto hit = accel::intersect<Arch>(world_->scene(), ray, live, depth == 0, world_->hit_filter());
-      F t_event = simd::select(hit.hit, hit.t, F(inf));
-
-      // A collision with a volume before the surface replaces the surface as the next vertex.
-      Vertex vertex[W];
-      M in_medium(false);
-      if constexpr (requires { world_->volume_count(); })
-        if (world_->volume_count()) in_medium = collide_with_volumes(path, ray, live, t_event, vertex);
-      detail::for_each_surface<Arch>(
-          *world_, ray, hit, live & !in_medium,
-          [&](int i, const SurfacePoint& s) {
-            vertex[i].kind = Vertex::Kind::surface;
-            vertex[i].surface = s;
-          },
-          &derivatives_needed_);
-
-      // Light found by the BSDF-sampled ray (or seen by the camera), and emission.
-      for (int i = 0; i < W; ++i) {
-        Path& p = path[i];
-        if (!p.alive) continue;
-        Vertex& v = vertex[i];
-        const float t = v.kind == Vertex::Kind::none ? inf : simd::lane(t_event, i);
-        add_lights_along(p, t, depth);
-        if (v.kind == Vertex::Kind::none) {
-          if (params_.background_refraction ? p.specular_transmissions : p.straight) {
-            const float x = simd::lane(index.screen_x, i), y = simd::lane(index.screen_y, i);
-            p.radiance = p.radiance + p.throughput * background_at(params_, x, y);
-            // As OSPRay: what the surfaces passed let through is the background's share.
-            const float through = std::clamp(
-                0.212671f * p.throughput.x + 0.715160f * p.throughput.y + 0.072169f * p.throughput.z, 0.f, 1.f);
-            p.alpha = 1.f - through + through * background_alpha_at(params_, x, y);
-          }
-          p.alive = false;
-          continue;
-        }
-        if (p.medium != no_material) p.throughput = p.throughput * medium_transmittance(params_.materials[p.medium], t);
-        if (depth == params_.max_path_length) p.alive = false;
-        if (v.kind == Vertex::Kind::medium) {
-          p.p = p.org + p.dir * t;
-          p.throughput = p.throughput * v.albedo;
-          if (depth == 0) {
-            p.alpha = 1.f;
-            const float c[7] = {t, 0.f, 0.f, 0.f, v.albedo.x, v.albedo.y, v.albedo.z};
-            for (int k = 0; k < 7; ++k) first[k][i] = c[k];
-            if constexpr (requires { world_->volume_count(); }) {
-              const auto [object, instance] = world_->volume_ids(v.volume);
-              ids[0][i] = 0, ids[1][i] = object, ids[2][i] = instance;
-            }
-          }
-          continue;
-        }
-        const SurfacePoint& s = v.surface;
-        p.sp = shading_point(s);
-        p.p = s.p;
-        p.offset = detail::ray_offset(s.p, s.t, s.epsilon);
-        p.material = &textured(material(s), s.uv, p.textured_material);
-        const Material& m = *p.material;
-        // A refracting material's side is the path's, as OSPRay tracks media: it enters
-        // unless it is inside this material already, whichever way the surface is wound.
-        if (has_medium(m)) p.sp.entering = p.medium != s.material;
-        if (const Vec3f e = emitted(m, p.sp, -p.dir); std::max({e.x, e.y, e.z}) > 0.f)
-          add(p, p.throughput * e * emission_weight(p, hit, i, s.ng, simd::lane(camera_ray.time, i)), depth);
-        if (depth == 0) {
-          p.alpha = 1.f;
-          const Vec3f a = albedo(m, p.sp);
-          const float c[7] = {t, s.n.x, s.n.y, s.n.z, a.x, a.y, a.z};
-          for (int k = 0; k < 7; ++k) first[k][i] = c[k];
-          ids[0][i] = simd::lane(hit.prim_id, i);
-          const auto [object, instance] =
-              world_->channel_ids(static_cast<std::uint32_t>(simd::lane(hit.inst_id, i)),
-                                  static_cast<std::uint32_t>(simd::lane(hit.geom_id, i)));
-          ids[1][i] = object, ids[2][i] = instance;
-        }
-      }
-
-      sample_lights(path, vertex, camera_ray.time);
-      sample_geometry_lights(path, vertex, camera_ray.time);
-
-      // Continue each path by sampling its BSDF or phase function.
-      for (int i = 0; i < W; ++i) {
-        Path& p = path[i];
-        const Vertex& v = vertex[i];
-        if (!p.alive || v.kind == Vertex::Kind::none) continue;
-        const Vec3f wo = -p.dir;
-        const float u_lobe = p.rng.next_1d();
-        const auto u = p.rng.next_2d();
-        if (v.kind == Vertex::Kind::medium) {
-          // The phase function is its own pdf: the weight is 1.
-          const Vec3f scattered = sample_henyey_greenstein(p.dir, v.anisotropy, u.u, u.v);
-          p.previous_pdf = henyey_greenstein(dot(p.dir, scattered), v.anisotropy);
-          p.org = p.p;
-          p.dir = scattered;
-          p.previous_delta = false;
-          p.previous_normal = splat(0.f);
-          p.vertex = p.p;
-          p.passed_straight = false;
-          p.straight = p.specular_transmissions = false;
-        } else {
-          const Material& m = *p.material;
-          const std::optional<BsdfSample> b = sample(m, p.sp, wo, u_lobe, u.u, u.v);
-          if (!b || !(b->pdf > 0.f)) {
-            p.alive = false;
-            continue;
-          }
-          p.throughput = p.throughput * b->weight;
-          p.straight = p.straight && b->wi == p.dir;
-          p.specular_transmissions = p.specular_transmissions && b->delta && b->transmitted;
-          // Straight through: light found beyond is weighed as from the vertex before.
-          p.passed_straight = b->straight;
-          if (!b->straight) {
-            p.previous_pdf = b->pdf;
-            p.previous_delta = b->delta;
-            p.previous_normal = p.sp.n;
-            p.vertex = p.p;
-          }
-          if (b->transmitted && has_medium(m))
-            p.medium = p.medium == v.surface.material ? no_material : v.surface.material;
-          // A reflection leaves from wo's side even where the shading normal sent it below
-          // the geometric surface: it meets the surface again (as OSPRay's, whose furnace holds).
-          p.org = p.p + (b->transmitted ? -p.sp.ng : p.sp.ng) * p.offset;
-          p.dir = b->wi;
-        }
-        // Russian roulette: continue with the probability the path's throughput suggests.
-        if (depth + 1 >= params_.roulette_path_length) {
-          const float survive = std::min(0.95f, std::max({p.throughput.x, p.throughput.y, p.throughput.z}));
-          if (!(p.rng.next_1d() < survive)) {
-            p.alive = false;
-            continue;
-          }
-          p.throughput = p.throughput / survive;
-        }
-        if (!(std::max({p.throughput.x, p.throughput.y, p.throughput.z}) > 0.f)) p.alive = false;
-      }
-    }
-
-    alignas(64) float rgba[4][W];
-    for (int i = 0; i < W; ++i) {
-      rgba[0][i] = path[i].radiance.x, rgba[1][i] = path[i].radiance.y, rgba[2][i] = path[i].radiance.z;
-      rgba[3][i] = path[i].alpha;
-    }
-    out.color = {simd::load<Arch>(rgba[0]), simd::load<Arch>(rgba[1]), simd::load<Arch>(rgba[2])};
-    out.alpha = simd::load<Arch>(rgba[3]);
-    out.t = simd::load<Arch>(first[0]);
-    out.normal = {simd::load<Arch>(first[1]), simd::load<Arch>(first[2]), simd::load<Arch>(first[3])};
-    out.albedo = {simd::load<Arch>(first[4]), simd::load<Arch>(first[5]), simd::load<Arch>(first[6])};
-    out.albedo = select(out.t < F(inf), out.albedo, Vec3<F>(params_.background_color));
-    out.prim_id = simd::load<Arch>(ids[0]);
-    out.geom_id = simd::load<Arch>(ids[1]);
-    out.inst_id = simd::load<Arch>(ids[2]);
+    render_stream(std::span<const CameraPacket<Arch>>(&packet, 1), std::span<PixelSample<Arch>>(&out, 1));
     return out;
+  }
+
+  /// The paths of all `packets` (a tile's sample, from render_frame) as one stream: after
+  /// every bounce the live paths are packed into full packets again, so the lanes of
+  /// paths that ended (escaped, absorbed, stopped by roulette) carry other paths' rays.
+  /// Each path's numbers and shading are its own, so an image does not depend on how
+  /// paths share packets.
+  void render_stream(std::span<const CameraPacket<Arch>> packets, std::span<PixelSample<Arch>> results) const {
+    constexpr float inf = std::numeric_limits<float>::infinity();
+    const std::size_t count = packets.size() * W;
+    std::vector<Path> paths(count);
+    std::vector<std::uint32_t> live;
+    live.reserve(count);
+    for (std::size_t k = 0; k < packets.size(); ++k) {
+      const CameraPacket<Arch>& c = packets[k];
+      const F reach = detail::max_depth<Arch>(params_, c.active, c.index);
+      for (int i = 0; i < W; ++i) {
+        Path& p = paths[k * W + static_cast<std::size_t>(i)];
+        if (!simd::lane(c.active, i)) continue;
+        p.rng = PixelRandom(static_cast<std::uint32_t>(simd::lane(c.index.pixel, i)), c.index.sample);
+        p.alive = true;
+        p.org = {simd::lane(c.ray.org.x, i), simd::lane(c.ray.org.y, i), simd::lane(c.ray.org.z, i)};
+        p.dir = {simd::lane(c.ray.dir.x, i), simd::lane(c.ray.dir.y, i), simd::lane(c.ray.dir.z, i)};
+        p.time = simd::lane(c.ray.time, i);
+        p.tnear = simd::lane(c.ray.tnear, i);
+        p.tfar = simd::lane(reach, i);
+        p.screen_x = simd::lane(c.index.screen_x, i), p.screen_y = simd::lane(c.index.screen_y, i);
+        live.push_back(static_cast<std::uint32_t>(k * W + static_cast<std::size_t>(i)));
+      }
+    }
+    Path dead[W];  // the lanes of a last, partly filled packet
+    for (int depth = 0; depth <= params_.max_path_length && !live.empty(); ++depth) {
+      for (std::size_t first = 0; first < live.size(); first += W) {
+        PathLanes lanes;
+        for (int i = 0; i < W; ++i)
+          lanes.lane[i] = first + i < live.size() ? &paths[live[first + i]] : &dead[i];
+        bounce(lanes, depth);
+      }
+      std::erase_if(live, [&](std::uint32_t i) { return !paths[i].alive; });
+    }
+
+    for (std::size_t k = 0; k < packets.size(); ++k) {
+      alignas(64) float lanes[11][W];
+      alignas(64) std::int32_t ids[3][W];
+      for (int i = 0; i < W; ++i) {
+        const Path& p = paths[k * W + static_cast<std::size_t>(i)];
+        const float c[11] = {p.radiance.x, p.radiance.y, p.radiance.z, p.alpha, p.first_t,
+                             p.first_normal.x, p.first_normal.y, p.first_normal.z,
+                             p.first_albedo.x, p.first_albedo.y, p.first_albedo.z};
+        for (int j = 0; j < 11; ++j) lanes[j][i] = c[j];
+        for (int j = 0; j < 3; ++j) ids[j][i] = p.first_ids[j];
+      }
+      PixelSample<Arch>& out = results[k];
+      out.color = {simd::load<Arch>(lanes[0]), simd::load<Arch>(lanes[1]), simd::load<Arch>(lanes[2])};
+      out.alpha = simd::load<Arch>(lanes[3]);
+      out.t = simd::load<Arch>(lanes[4]);
+      out.normal = {simd::load<Arch>(lanes[5]), simd::load<Arch>(lanes[6]), simd::load<Arch>(lanes[7])};
+      out.albedo = {simd::load<Arch>(lanes[8]), simd::load<Arch>(lanes[9]), simd::load<Arch>(lanes[10])};
+      out.albedo = select(out.t < F(inf), out.albedo, Vec3<F>(params_.background_color));
+      out.prim_id = simd::load<Arch>(ids[0]);
+      out.geom_id = simd::load<Arch>(ids[1]);
+      out.inst_id = simd::load<Arch>(ids[2]);
+    }
   }
 
 private:
@@ -301,6 +185,8 @@ private:
     bool alive = false;
     Vec3f org, dir;
     float time = 0.f;  // the camera ray's: where lights of moving instances are
+    float tnear = 0.f, tfar = 0.f;  // the camera ray's near clip and reach (map_maxDepth)
+    float screen_x = 0.5f, screen_y = 0.5f;  // the camera sample's, for the background
     // The background is seen along straight paths (or, with backgroundRefraction, paths of
     // specular transmissions only).
     bool straight = true, specular_transmissions = true;
@@ -320,6 +206,16 @@ private:
     std::uint32_t medium = no_material;  // the material whose interior the path is in
     Material textured_material;          // the current surface's material with its maps resolved
     const Material* material = nullptr;  // the material at the path's current surface
+    // The first hit's channels: distance, normal, albedo, and primitive, object, instance ids.
+    float first_t = std::numeric_limits<float>::infinity();
+    Vec3f first_normal{0.f, 0.f, 0.f}, first_albedo{0.f, 0.f, 0.f};
+    std::int32_t first_ids[3] = {-1, -1, -1};
+  };
+
+  /// The paths that fill a packet's lanes (indexed as an array of paths).
+  struct PathLanes {
+    std::array<Path*, W> lane;
+    Path& operator[](int i) const { return *lane[static_cast<std::size_t>(i)]; }
   };
 
   /// Where a path scatters next: off a surface, or inside a volume.
@@ -332,8 +228,165 @@ private:
     std::size_t volume = 0;      // kind medium: the placed volume collided with
   };
 
+  /// One bounce of the paths in `path`'s lanes: their rays traced as a packet, light
+  /// found along them, a light sample at each vertex and the next direction drawn.
+  void bounce(const PathLanes& path, int depth) const {
+    constexpr float inf = std::numeric_limits<float>::infinity();
+    // The paths' rays as a packet (bounce rays start off the surface: tnear 0).
+    alignas(64) float lanes[10][W];
+    bool any_alive = false;
+    for (int i = 0; i < W; ++i) {
+      const Path& p = path[i];
+      any_alive |= p.alive;
+      const float v[10] = {p.org.x, p.org.y, p.org.z, p.dir.x, p.dir.y, p.dir.z, p.alive ? 1.f : 0.f,
+                           depth == 0 ? p.tnear : 0.f, depth == 0 ? p.tfar : inf, p.time};
+      for (int c = 0; c < 10; ++c) lanes[c][i] = v[c];
+    }
+    if (!any_alive) return;
+    Ray<F> ray;
+    ray.org = {simd::load<Arch>(lanes[0]), simd::load<Arch>(lanes[1]), simd::load<Arch>(lanes[2])};
+    ray.dir = {simd::load<Arch>(lanes[3]), simd::load<Arch>(lanes[4]), simd::load<Arch>(lanes[5])};
+    ray.tnear = simd::load<Arch>(lanes[7]);  // the camera's near clip
+    ray.tfar = simd::load<Arch>(lanes[8]);
+    ray.time = simd::load<Arch>(lanes[9]);
+    const M live = simd::load<Arch>(lanes[6]) > F(0.f);
+    const auto hit = accel::intersect<Arch>(world_->scene(), ray, live, depth == 0, world_->hit_filter());
+    F t_event = simd::select(hit.hit, hit.t, F(inf));
+
+    // A collision with a volume before the surface replaces the surface as the next vertex.
+    Vertex vertex[W];
+    M in_medium(false);
+    if constexpr (requires { world_->volume_count(); })
+      if (world_->volume_count()) in_medium = collide_with_volumes(path, ray, live, t_event, vertex);
+    detail::for_each_surface<Arch>(
+        *world_, ray, hit, live & !in_medium,
+        [&](int i, const SurfacePoint& s) {
+          vertex[i].kind = Vertex::Kind::surface;
+          vertex[i].surface = s;
+        },
+        &derivatives_needed_);
+
+    // Light found by the BSDF-sampled ray (or seen by the camera), and emission.
+    for (int i = 0; i < W; ++i) {
+      Path& p = path[i];
+      if (!p.alive) continue;
+      Vertex& v = vertex[i];
+      const float t = v.kind == Vertex::Kind::none ? inf : simd::lane(t_event, i);
+      add_lights_along(p, t, depth);
+      if (v.kind == Vertex::Kind::none) {
+        if (params_.background_refraction ? p.specular_transmissions : p.straight) {
+          const float x = p.screen_x, y = p.screen_y;
+          p.radiance = p.radiance + p.throughput * background_at(params_, x, y);
+          // As OSPRay: what the surfaces passed let through is the background's share.
+          const float through = std::clamp(
+              0.212671f * p.throughput.x + 0.715160f * p.throughput.y + 0.072169f * p.throughput.z, 0.f, 1.f);
+          p.alpha = 1.f - through + through * background_alpha_at(params_, x, y);
+        }
+        p.alive = false;
+        continue;
+      }
+      if (p.medium != no_material) p.throughput = p.throughput * medium_transmittance(params_.materials[p.medium], t);
+      if (depth == params_.max_path_length) p.alive = false;
+      if (v.kind == Vertex::Kind::medium) {
+        p.p = p.org + p.dir * t;
+        p.throughput = p.throughput * v.albedo;
+        if (depth == 0) {
+          p.alpha = 1.f;
+          p.first_t = t;
+          p.first_albedo = v.albedo;
+          if constexpr (requires { world_->volume_count(); }) {
+            const auto [object, instance] = world_->volume_ids(v.volume);
+            p.first_ids[0] = 0, p.first_ids[1] = object, p.first_ids[2] = instance;
+          }
+        }
+        continue;
+      }
+      const SurfacePoint& s = v.surface;
+      p.sp = shading_point(s);
+      p.p = s.p;
+      p.offset = detail::ray_offset(s.p, s.t, s.epsilon);
+      p.material = &textured(material(s), s.uv, p.textured_material);
+      const Material& m = *p.material;
+      // A refracting material's side is the path's, as OSPRay tracks media: it enters
+      // unless it is inside this material already, whichever way the surface is wound.
+      if (has_medium(m)) p.sp.entering = p.medium != s.material;
+      if (const Vec3f e = emitted(m, p.sp, -p.dir); std::max({e.x, e.y, e.z}) > 0.f)
+        add(p, p.throughput * e * emission_weight(p, hit, i, s.ng, p.time), depth);
+      if (depth == 0) {
+        p.alpha = 1.f;
+        p.first_t = t;
+        p.first_normal = s.n;
+        p.first_albedo = albedo(m, p.sp);
+        p.first_ids[0] = simd::lane(hit.prim_id, i);
+        const auto [object, instance] =
+            world_->channel_ids(static_cast<std::uint32_t>(simd::lane(hit.inst_id, i)),
+                                static_cast<std::uint32_t>(simd::lane(hit.geom_id, i)));
+        p.first_ids[1] = object, p.first_ids[2] = instance;
+      }
+    }
+
+    sample_lights(path, vertex, ray.time);
+    sample_geometry_lights(path, vertex, ray.time);
+
+    // Continue each path by sampling its BSDF or phase function.
+    for (int i = 0; i < W; ++i) {
+      Path& p = path[i];
+      const Vertex& v = vertex[i];
+      if (!p.alive || v.kind == Vertex::Kind::none) continue;
+      const Vec3f wo = -p.dir;
+      const float u_lobe = p.rng.next_1d();
+      const auto u = p.rng.next_2d();
+      if (v.kind == Vertex::Kind::medium) {
+        // The phase function is its own pdf: the weight is 1.
+        const Vec3f scattered = sample_henyey_greenstein(p.dir, v.anisotropy, u.u, u.v);
+        p.previous_pdf = henyey_greenstein(dot(p.dir, scattered), v.anisotropy);
+        p.org = p.p;
+        p.dir = scattered;
+        p.previous_delta = false;
+        p.previous_normal = splat(0.f);
+        p.vertex = p.p;
+        p.passed_straight = false;
+        p.straight = p.specular_transmissions = false;
+      } else {
+        const Material& m = *p.material;
+        const std::optional<BsdfSample> b = sample(m, p.sp, wo, u_lobe, u.u, u.v);
+        if (!b || !(b->pdf > 0.f)) {
+          p.alive = false;
+          continue;
+        }
+        p.throughput = p.throughput * b->weight;
+        p.straight = p.straight && b->wi == p.dir;
+        p.specular_transmissions = p.specular_transmissions && b->delta && b->transmitted;
+        // Straight through: light found beyond is weighed as from the vertex before.
+        p.passed_straight = b->straight;
+        if (!b->straight) {
+          p.previous_pdf = b->pdf;
+          p.previous_delta = b->delta;
+          p.previous_normal = p.sp.n;
+          p.vertex = p.p;
+        }
+        if (b->transmitted && has_medium(m))
+          p.medium = p.medium == v.surface.material ? no_material : v.surface.material;
+        // A reflection leaves from wo's side even where the shading normal sent it below
+        // the geometric surface: it meets the surface again (as OSPRay's, whose furnace holds).
+        p.org = p.p + (b->transmitted ? -p.sp.ng : p.sp.ng) * p.offset;
+        p.dir = b->wi;
+      }
+      // Russian roulette: continue with the probability the path's throughput suggests.
+      if (depth + 1 >= params_.roulette_path_length) {
+        const float survive = std::min(0.95f, std::max({p.throughput.x, p.throughput.y, p.throughput.z}));
+        if (!(p.rng.next_1d() < survive)) {
+          p.alive = false;
+          continue;
+        }
+        p.throughput = p.throughput / survive;
+      }
+      if (!(std::max({p.throughput.x, p.throughput.y, p.throughput.z}) > 0.f)) p.alive = false;
+    }
+  }
+
   /// Independent uniform numbers for the lanes of live paths (others get 0.5).
-  F independent_uniforms(Path* path) const {
+  F independent_uniforms(const PathLanes& path) const {
     alignas(64) float u[W];
     for (int i = 0; i < W; ++i) u[i] = path[i].alive ? path[i].rng.next_independent() : 0.5f;
     return simd::load<Arch>(u);
@@ -342,7 +395,7 @@ private:
   /// Delta tracking through every volume up to `t_end`: the nearest collision of each
   /// lane (independent media superpose, so the nearest of their collisions is the
   /// mixture's). Sets t_end to it and fills the lane's medium vertex.
-  M collide_with_volumes(Path* path, const Ray<F>& ray, const M& live, F& t_end, Vertex* vertex) const {
+  M collide_with_volumes(const PathLanes& path, const Ray<F>& ray, const M& live, F& t_end, Vertex* vertex) const {
     M collided(false);
     Vec3<F> albedo(splat(0.f));
     F anisotropy(0.f);
@@ -369,7 +422,7 @@ private:
   }
 
   /// Transmittance through the volumes along the shadow rays of `lanes`, by ratio tracking.
-  F volume_transmittance(Path* path, const Ray<F>& ray, const M& lanes) const {
+  F volume_transmittance(const PathLanes& path, const Ray<F>& ray, const M& lanes) const {
     F transmittance(1.f);
     if constexpr (requires { world_->volume_count(); })
       world_->template for_each_volume_along<Arch>(ray, lanes, ray.tfar, [&](const auto& model, auto object_ray) {
@@ -449,7 +502,7 @@ private:
   /// of lightSamples lights picked at random, each lane its own), the shadow rays of one
   /// round traced as a packet (at the camera rays' `time`, where lights of moving
   /// instances are placed) and attenuated by the volumes they cross.
-  void sample_lights(Path* path, const Vertex* vertex, const F& time) const {
+  void sample_lights(const PathLanes& path, const Vertex* vertex, const F& time) const {
     // Without light sampling only BSDF-sampled rays find lights; delta lights then vanish.
     if (params_.light_sampling == LightSampling::bsdf_only || light_count() == 0) return;
     const bool pick = picks_lights();
@@ -486,7 +539,7 @@ private:
   /// Next-event estimation of emissive geometry: one point on an emitter for every path
   /// at a vertex, its emission read from the surface there as a hit would (the synthetic
   /// hits go through for_each_surface as a packet), weighed against BSDF sampling.
-  void sample_geometry_lights(Path* path, const Vertex* vertex, const F& time) const {
+  void sample_geometry_lights(const PathLanes& path, const Vertex* vertex, const F& time) const {
     if (geometry_lights_.empty()) return;
     alignas(64) float lanes[12][W];  // ray origin and direction; hit t, u, v, ng
     alignas(64) std::int32_t ids[3][W];
@@ -583,7 +636,7 @@ private:
 
   /// Traces the shadow rays of the lanes with a contribution as a packet (off each
   /// surface on the side they leave) and adds what arrives, attenuated by volumes.
-  void cast_shadow_rays(Path* path, const Vertex* vertex, const Shadow* shadow, const F& time) const {
+  void cast_shadow_rays(const PathLanes& path, const Vertex* vertex, const Shadow* shadow, const F& time) const {
     alignas(64) float ray_lanes[8][W];
     bool any = false;
     for (int i = 0; i < W; ++i) {

@@ -1,6 +1,7 @@
 #pragma once
 #include <cstdint>
 
+#include "sciray/math/ray.hpp"
 #include "sciray/math/vec.hpp"
 
 namespace sciray {
@@ -37,6 +38,15 @@ struct PixelSample {
   I prim_id = I(-1);  ///< primitive, geometry and instance of the first hit; -1 where none
   I geom_id = I(-1);
   I inst_id = I(-1);
+};
+
+/// One packet of camera samples as a renderer gets it: the rays, the lanes inside the
+/// image and where the samples come from.
+template <class Arch>
+struct CameraPacket {
+  Ray<simd::Float<Arch>> ray;
+  simd::Mask<Arch> active;
+  SampleIndex<Arch> index;
 };
 
 }  // namespace sciray
