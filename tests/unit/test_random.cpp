@@ -2,6 +2,7 @@
 // independent of each other.
 #include <catch2/catch.hpp>
 
+#include <array>
 #include <cmath>
 #include <numbers>
 #include <vector>
@@ -141,4 +142,35 @@ TEMPLATE_TEST_CASE("a packet of generators draws, lane by lane, what each pixel'
       }
     }
   }
+}
+
+TEMPLATE_TEST_CASE("a packet of paths' own generators draws, lane by lane, what each would alone", "[random][simd]",
+                   xsimd::default_arch, sciray::simd::scalar) {
+  using Arch = TestType;
+  constexpr int W = sciray::simd::width<Arch>;
+  // Generators of different pixels and samples, each already some draws into its sequence.
+  std::vector<PixelRandom> paths, alone;
+  for (int i = 0; i < W; ++i) {
+    paths.emplace_back(static_cast<std::uint32_t>(31 * i + 5), static_cast<std::uint32_t>(i % 3));
+    for (int d = 0; d < i % 4; ++d) paths.back().next_2d();
+    alone.push_back(paths.back());
+  }
+  std::array<PixelRandom*, W> lanes;
+  for (int i = 0; i < W; ++i) lanes[static_cast<std::size_t>(i)] = &paths[static_cast<std::size_t>(i)];
+  alignas(64) float active[W];
+  for (int draw = 0; draw < 6; ++draw) {
+    for (int i = 0; i < W; ++i) active[i] = (draw + i) % 3 == 0 ? 0.f : 1.f;
+    const auto drawing = sciray::simd::load<Arch>(active) > sciray::simd::Float<Arch>(0.f);
+    const auto [u, v] = sciray::PixelRandomLanes<Arch>::next_2d_of(lanes, drawing);
+    for (int i = 0; i < W; ++i) {
+      if (active[i] == 0.f) continue;
+      INFO("draw " << draw << ", lane " << i);
+      const PixelRandom::Pair expected = alone[static_cast<std::size_t>(i)].next_2d();
+      CHECK(sciray::simd::lane(u, i) == expected.u);
+      CHECK(sciray::simd::lane(v, i) == expected.v);
+    }
+  }
+  // Lanes that sat out draws kept their place: their next draws are still each one's own.
+  for (int i = 0; i < W; ++i)
+    CHECK(paths[static_cast<std::size_t>(i)].next_2d().u == alone[static_cast<std::size_t>(i)].next_2d().u);
 }

@@ -107,6 +107,9 @@ constexpr U sobol_second_reversed(U index) {
 }
 
 /// The sample stream of one pixel sample: 2D draws stratified across the pixel's samples.
+template <class Arch>
+class PixelRandomLanes;
+
 class PixelRandom {
 public:
   PixelRandom() : PixelRandom(0, 0) {}
@@ -140,6 +143,8 @@ public:
   float next_independent() { return pcg_.next_float(); }
 
 private:
+  template <class Arch>
+  friend class PixelRandomLanes;  // draws for a packet of generators at once
   std::uint32_t pixel_seed_, sample_reversed_;
   std::uint32_t draws_ = 0;
   Pcg32 pcg_;

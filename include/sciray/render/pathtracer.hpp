@@ -40,6 +40,7 @@
 #include <vector>
 
 #include "sciray/math/random.hpp"
+#include "sciray/math/random_lanes.hpp"
 #include "sciray/render/bsdf.hpp"
 #include "sciray/render/common.hpp"
 #include "sciray/render/geometry_light.hpp"
@@ -91,6 +92,7 @@ public:
     // No light samples (as OSPRay's lightSamples 0): lights are found by BSDF sampling only.
     if (params_.light_samples == 0) params_.light_sampling = LightSampling::bsdf_only;
     for (const Material& m : params_.materials) {
+      lambert_kd_.push_back(lambert_kd(m));
       normal_mapped_.push_back(has_normal_map(m));
       anisotropic_.push_back(is_anisotropic(m));
       derivatives_needed_.push_back(normal_mapped_.back() || anisotropic_.back());
@@ -206,6 +208,10 @@ private:
     std::uint32_t medium = no_material;  // the material whose interior the path is in
     Material textured_material;          // the current surface's material with its maps resolved
     const Material* material = nullptr;  // the material at the path's current surface
+    // A surface whose material is Lambert's alone (lambert_kd): its colour (kd times the
+    // geometry's), the normal of its shading frame and whether it scatters wo at all.
+    bool lambert = false, lambert_scatters = false;
+    Vec3f lambert_tint, lambert_normal;
     // The first hit's channels: distance, normal, albedo, and primitive, object, instance ids.
     float first_t = std::numeric_limits<float>::infinity();
     Vec3f first_normal{0.f, 0.f, 0.f}, first_albedo{0.f, 0.f, 0.f};
@@ -307,6 +313,7 @@ private:
       p.offset = detail::ray_offset(s.p, s.t, s.epsilon);
       p.material = &textured(material(s), s.uv, p.textured_material);
       const Material& m = *p.material;
+      set_lambert(p, s);
       // A refracting material's side is the path's, as OSPRay tracks media: it enters
       // unless it is inside this material already, whichever way the surface is wound.
       if (has_medium(m)) p.sp.entering = p.medium != s.material;
@@ -328,49 +335,21 @@ private:
     sample_lights(path, vertex, ray.time);
     sample_geometry_lights(path, vertex, ray.time);
 
-    // Continue each path by sampling its BSDF or phase function.
+    // Continue each path by sampling its BSDF or phase function: Lambert's as a packet.
+    alignas(64) float lambert_lane[W];
+    for (int i = 0; i < W; ++i)
+      lambert_lane[i] = path[i].alive && vertex[i].kind == Vertex::Kind::surface && path[i].lambert ? 1.f : 0.f;
+    const M lambert_lanes = simd::load<Arch>(lambert_lane) > F(0.f);
+    if (simd::any(lambert_lanes)) sample_lambert(path, lambert_lanes);
     for (int i = 0; i < W; ++i) {
       Path& p = path[i];
       const Vertex& v = vertex[i];
       if (!p.alive || v.kind == Vertex::Kind::none) continue;
-      const Vec3f wo = -p.dir;
-      const float u_lobe = p.rng.next_1d();
-      const auto u = p.rng.next_2d();
-      if (v.kind == Vertex::Kind::medium) {
-        // The phase function is its own pdf: the weight is 1.
-        const Vec3f scattered = sample_henyey_greenstein(p.dir, v.anisotropy, u.u, u.v);
-        p.previous_pdf = henyey_greenstein(dot(p.dir, scattered), v.anisotropy);
-        p.org = p.p;
-        p.dir = scattered;
-        p.previous_delta = false;
-        p.previous_normal = splat(0.f);
-        p.vertex = p.p;
-        p.passed_straight = false;
-        p.straight = p.specular_transmissions = false;
-      } else {
-        const Material& m = *p.material;
-        const std::optional<BsdfSample> b = sample(m, p.sp, wo, u_lobe, u.u, u.v);
-        if (!b || !(b->pdf > 0.f)) {
-          p.alive = false;
-          continue;
-        }
-        p.throughput = p.throughput * b->weight;
-        p.straight = p.straight && b->wi == p.dir;
-        p.specular_transmissions = p.specular_transmissions && b->delta && b->transmitted;
-        // Straight through: light found beyond is weighed as from the vertex before.
-        p.passed_straight = b->straight;
-        if (!b->straight) {
-          p.previous_pdf = b->pdf;
-          p.previous_delta = b->delta;
-          p.previous_normal = p.sp.n;
-          p.vertex = p.p;
-        }
-        if (b->transmitted && has_medium(m))
-          p.medium = p.medium == v.surface.material ? no_material : v.surface.material;
-        // A reflection leaves from wo's side even where the shading normal sent it below
-        // the geometric surface: it meets the surface again (as OSPRay's, whose furnace holds).
-        p.org = p.p + (b->transmitted ? -p.sp.ng : p.sp.ng) * p.offset;
-        p.dir = b->wi;
+      if (lambert_lane[i] > 0.f) {
+        // sampled above
+      } else if (!sample_direction(p, v)) {
+        p.alive = false;
+        continue;
       }
       // Russian roulette: continue with the probability the path's throughput suggests.
       if (depth + 1 >= params_.roulette_path_length) {
@@ -382,6 +361,131 @@ private:
         p.throughput = p.throughput / survive;
       }
       if (!(std::max({p.throughput.x, p.throughput.y, p.throughput.z}) > 0.f)) p.alive = false;
+    }
+  }
+
+  /// Draws a path's next direction at its vertex from the phase function or the BSDF;
+  /// false where the BSDF absorbs the path.
+  bool sample_direction(Path& p, const Vertex& v) const {
+    const float u_lobe = p.rng.next_1d();
+    const auto u = p.rng.next_2d();
+    if (v.kind == Vertex::Kind::medium) {
+      // The phase function is its own pdf: the weight is 1.
+      const Vec3f scattered = sample_henyey_greenstein(p.dir, v.anisotropy, u.u, u.v);
+      p.previous_pdf = henyey_greenstein(dot(p.dir, scattered), v.anisotropy);
+      p.org = p.p;
+      p.dir = scattered;
+      p.previous_delta = false;
+      p.previous_normal = splat(0.f);
+      p.vertex = p.p;
+      p.passed_straight = false;
+      p.straight = p.specular_transmissions = false;
+      return true;
+    }
+    const Material& m = *p.material;
+    const std::optional<BsdfSample> b = sample(m, p.sp, -p.dir, u_lobe, u.u, u.v);
+    if (!b || !(b->pdf > 0.f)) return false;
+    p.throughput = p.throughput * b->weight;
+    p.straight = p.straight && b->wi == p.dir;
+    p.specular_transmissions = p.specular_transmissions && b->delta && b->transmitted;
+    // Straight through: light found beyond is weighed as from the vertex before.
+    p.passed_straight = b->straight;
+    if (!b->straight) {
+      p.previous_pdf = b->pdf;
+      p.previous_delta = b->delta;
+      p.previous_normal = p.sp.n;
+      p.vertex = p.p;
+    }
+    if (b->transmitted && has_medium(m)) p.medium = p.medium == v.surface.material ? no_material : v.surface.material;
+    // A reflection leaves from wo's side even where the shading normal sent it below
+    // the geometric surface: it meets the surface again (as OSPRay's, whose furnace holds).
+    p.org = p.p + (b->transmitted ? -p.sp.ng : p.sp.ng) * p.offset;
+    p.dir = b->wi;
+    return true;
+  }
+
+  /// Lambert's lobe alone (bsdf.hpp's sample() and eval() of an obj material with kd
+  /// only): the energy-conserving kd of a material that is nothing else, or none.
+  static std::optional<Vec3f> lambert_kd(const Material& material) {
+    const auto* obj = std::get_if<ObjMaterial>(&material);
+    if (!obj || has_maps(material) || obj->d != 1.f) return std::nullopt;
+    const ObjMaterial m = energy_conserving(*obj);
+    if (bsdf_detail::max_component(m.ks) > 0.f || bsdf_detail::max_component(m.tf) > 0.f) return std::nullopt;
+    return m.kd;
+  }
+
+  /// Marks a path at surface s as scattering by Lambert's lobe alone, or not: its tint,
+  /// shading frame normal and whether wo sees a lobe, as make_bsdf() would find them.
+  void set_lambert(Path& p, const SurfacePoint& s) const {
+    static const Vec3f own_colors = *lambert_kd(ObjMaterial{{1.f, 1.f, 1.f}});
+    static const Vec3f default_grey = *lambert_kd(ObjMaterial{});
+    const std::optional<Vec3f> kd = s.material != no_material ? lambert_kd_[s.material]
+                                    : s.has_color                ? own_colors
+                                                                 : default_grey;
+    p.lambert = kd && p.sp.alpha == 1.f && !p.sp.coat_n;
+    if (!p.lambert) return;
+    const Vec3f wo = -p.dir;
+    p.lambert_tint = *kd * p.sp.color;
+    const bool from_below = dot(p.sp.n, wo) <= 0.f;
+    p.lambert_normal = from_below ? p.sp.n : bsdf_detail::facing(p.sp.n, wo, p.sp.ng);
+    p.lambert_scatters = dot(wo, p.sp.ng) > 0.f && (from_below || dot(p.lambert_normal, wo) > 0.f) &&
+                         bsdf_detail::max_component(p.lambert_tint) > 0.f;
+  }
+
+  /// Lambert's f·cos and pdf towards wi (eval() of the material set_lambert saw).
+  static BsdfValue lambert_value(const Path& p, const Vec3f& wi) {
+    BsdfValue f;
+    const float cos_i = dot(p.lambert_normal, wi);
+    // Light from below the geometric surface, or the shading frame, does not reach wo.
+    if (!p.lambert_scatters || dot(wi, p.sp.ng) < 0.f || !(cos_i > 0.f)) return f;
+    f.pdf = cos_i / bsdf_detail::pi;
+    f.f_cos = p.lambert_tint * f.pdf;
+    return f;
+  }
+
+  /// The next direction of the Lambert `lanes`' paths, drawn as a packet: the same draws
+  /// as sample_direction() (u_lobe, then the direction), a cosine-weighted direction about
+  /// each frame normal, of weight f·cos / pdf = the tint, leaving off the surface on wo's side.
+  void sample_lambert(const PathLanes& path, const M& lanes) const {
+    alignas(64) float in[14][W];
+    std::array<PixelRandom*, W> rngs;
+    for (int i = 0; i < W; ++i) {
+      Path& p = path[i];
+      rngs[static_cast<std::size_t>(i)] = &p.rng;
+      const bool lane = simd::lane(lanes, i);
+      const Vec3f n = lane ? p.lambert_normal : Vec3f{0.f, 0.f, 1.f}, ng = lane ? p.sp.ng : n;
+      const float c[14] = {n.x, n.y, n.z, ng.x, ng.y, ng.z, p.p.x, p.p.y, p.p.z, lane ? p.offset : 0.f,
+                           p.lambert_tint.x, p.lambert_tint.y, p.lambert_tint.z, lane && p.lambert_scatters ? 1.f : 0.f};
+      for (int k = 0; k < 14; ++k) in[k][i] = c[k];
+    }
+    const auto lane3 = [&](int k) { return Vec3<F>{simd::load<Arch>(in[k]), simd::load<Arch>(in[k + 1]), simd::load<Arch>(in[k + 2])}; };
+    const Vec3<F> n = lane3(0), ng = lane3(3), at = lane3(6), tint = lane3(10);
+    PixelRandomLanes<Arch>::next_2d_of(rngs, lanes);  // u_lobe: there is one lobe to pick
+    const auto [u1, u2] = PixelRandomLanes<Arch>::next_2d_of(rngs, lanes);
+    const Vec3<F> wi = normalize(detail::sample_cosine(n, u1, u2));
+    const F cos_i = dot(n, wi);
+    const M scattered = lanes & (simd::load<Arch>(in[13]) > F(0.f)) & (cos_i > F(0.f));
+    const F pdf = cos_i / F(bsdf_detail::pi);
+    const Vec3<F> org = at + ng * simd::load<Arch>(in[9]);
+    alignas(64) float out[10][W];
+    const F values[10] = {wi.x, wi.y, wi.z, tint.x, tint.y, tint.z, pdf, org.x, org.y, org.z};
+    for (int k = 0; k < 10; ++k) simd::store<Arch>(out[k], values[k]);
+    for (int i = 0; i < W; ++i) {
+      if (!simd::lane(lanes, i)) continue;
+      Path& p = path[i];
+      if (!simd::lane(scattered, i)) {
+        p.alive = false;
+        continue;
+      }
+      const Vec3f dir{out[0][i], out[1][i], out[2][i]};
+      p.throughput = p.throughput * Vec3f{out[3][i], out[4][i], out[5][i]};
+      p.straight = p.straight && dir == p.dir;
+      p.specular_transmissions = p.passed_straight = p.previous_delta = false;
+      p.previous_pdf = out[6][i];
+      p.previous_normal = p.sp.n;
+      p.vertex = p.p;
+      p.org = {out[7][i], out[8][i], out[9][i]};
+      p.dir = dir;
     }
   }
 
@@ -616,7 +720,7 @@ private:
   /// What a path's vertex scatters towards wi: the phase function in a medium, the BSDF
   /// (times the cosine) on a surface.
   BsdfValue scattering(const Path& p, const Vertex& v, const Vec3f& wi) const {
-    if (v.kind != Vertex::Kind::medium) return eval(*p.material, p.sp, -p.dir, wi);
+    if (v.kind != Vertex::Kind::medium) return p.lambert ? lambert_value(p, wi) : eval(*p.material, p.sp, -p.dir, wi);
     BsdfValue f;
     f.pdf = henyey_greenstein(dot(p.dir, wi), v.anisotropy);
     f.f_cos = splat(f.pdf);
@@ -719,6 +823,7 @@ private:
   const WorldT* world_;
   PathTracerParams params_;
   GeometryLights<WorldT> geometry_lights_;  ///< emissive geometry, for light sampling
+  std::vector<std::optional<Vec3f>> lambert_kd_;  ///< per material: lambert_kd()
   std::vector<bool> normal_mapped_;       ///< per material: has a normal map
   std::vector<bool> anisotropic_;         ///< per material: reflects anisotropically (is_anisotropic)
   std::vector<bool> derivatives_needed_;  ///< per material: either, so its hits need dP/ds and dP/dt
