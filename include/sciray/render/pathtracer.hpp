@@ -92,6 +92,7 @@ public:
     // No light samples (as OSPRay's lightSamples 0): lights are found by BSDF sampling only.
     if (params_.light_samples == 0) params_.light_sampling = LightSampling::bsdf_only;
     for (const Material& m : params_.materials) {
+      textured_ = textured_ || has_maps(m);
       lambert_kd_.push_back(lambert_kd(m));
       normal_mapped_.push_back(has_normal_map(m));
       anisotropic_.push_back(is_anisotropic(m));
@@ -126,7 +127,12 @@ public:
   void render_stream(std::span<const CameraPacket<Arch>> packets, std::span<PixelSample<Arch>> results) const {
     constexpr float inf = std::numeric_limits<float>::infinity();
     const std::size_t count = packets.size() * W;
-    std::vector<Path> paths(count);
+    // Reused by each thread's streams: a Material is 1.6 kB, so the textured copies are
+    // there only where some material has maps.
+    thread_local std::vector<Path> paths;
+    thread_local std::vector<Material> textured_storage;
+    paths.assign(count, Path{});
+    if (textured_ && textured_storage.size() < count) textured_storage.resize(count);
     std::vector<std::uint32_t> live;
     live.reserve(count);
     for (std::size_t k = 0; k < packets.size(); ++k) {
@@ -136,6 +142,7 @@ public:
         Path& p = paths[k * W + static_cast<std::size_t>(i)];
         if (!simd::lane(c.active, i)) continue;
         p.rng = PixelRandom(static_cast<std::uint32_t>(simd::lane(c.index.pixel, i)), c.index.sample);
+        if (textured_) p.textured_material = &textured_storage[k * W + static_cast<std::size_t>(i)];
         p.alive = true;
         p.org = {simd::lane(c.ray.org.x, i), simd::lane(c.ray.org.y, i), simd::lane(c.ray.org.z, i)};
         p.dir = {simd::lane(c.ray.dir.x, i), simd::lane(c.ray.dir.y, i), simd::lane(c.ray.dir.z, i)};
@@ -206,7 +213,7 @@ private:
     Vec3f vertex;
     bool passed_straight = false;  // the ray starts on a surface passed straight through since that vertex
     std::uint32_t medium = no_material;  // the material whose interior the path is in
-    Material textured_material;          // the current surface's material with its maps resolved
+    Material* textured_material = nullptr;  // where its material with maps resolved goes, if any has maps
     const Material* material = nullptr;  // the material at the path's current surface
     // A surface whose material is Lambert's alone (lambert_kd): its colour (kd times the
     // geometry's), the normal of its shading frame and whether it scatters wo at all.
@@ -311,7 +318,7 @@ private:
       p.sp = shading_point(s);
       p.p = s.p;
       p.offset = detail::ray_offset(s.p, s.t, s.epsilon);
-      p.material = &textured(material(s), s.uv, p.textured_material);
+      p.material = p.textured_material ? &textured(material(s), s.uv, *p.textured_material) : &material(s);
       const Material& m = *p.material;
       set_lambert(p, s);
       // A refracting material's side is the path's, as OSPRay tracks media: it enters
@@ -828,6 +835,7 @@ private:
   std::vector<bool> anisotropic_;         ///< per material: reflects anisotropically (is_anisotropic)
   std::vector<bool> derivatives_needed_;  ///< per material: either, so its hits need dP/ds and dP/dt
   bool transparent_shadows_ = false;      ///< some surface may let shadow rays through (transparency())
+  bool textured_ = false;                 ///< some material has maps, read per hit (textured())
 };
 
 }  // namespace sciray
