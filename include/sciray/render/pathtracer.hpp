@@ -339,14 +339,16 @@ private:
       }
     }
 
-    sample_lights(path, vertex, ray.time);
-    sample_geometry_lights(path, vertex, ray.time);
-
-    // Continue each path by sampling its BSDF or phase function: Lambert's as a packet.
+    // The paths at Lambert surfaces: their light samples and next directions go as packets.
     alignas(64) float lambert_lane[W];
     for (int i = 0; i < W; ++i)
       lambert_lane[i] = path[i].alive && vertex[i].kind == Vertex::Kind::surface && path[i].lambert ? 1.f : 0.f;
     const M lambert_lanes = simd::load<Arch>(lambert_lane) > F(0.f);
+
+    sample_lights(path, vertex, lambert_lanes, ray.time);
+    sample_geometry_lights(path, vertex, ray.time);
+
+    // Continue each path by sampling its BSDF or phase function.
     if (simd::any(lambert_lanes)) sample_lambert(path, lambert_lanes);
     for (int i = 0; i < W; ++i) {
       Path& p = path[i];
@@ -613,7 +615,7 @@ private:
   /// of lightSamples lights picked at random, each lane its own), the shadow rays of one
   /// round traced as a packet (at the camera rays' `time`, where lights of moving
   /// instances are placed) and attenuated by the volumes they cross.
-  void sample_lights(const PathLanes& path, const Vertex* vertex, const F& time) const {
+  void sample_lights(const PathLanes& path, const Vertex* vertex, const M& lambert_lanes, const F& time) const {
     // Without light sampling only BSDF-sampled rays find lights; delta lights then vanish.
     if (params_.light_sampling == LightSampling::bsdf_only || light_count() == 0) return;
     const bool pick = picks_lights();
@@ -621,10 +623,15 @@ private:
     const std::size_t rounds = pick ? static_cast<std::size_t>(params_.light_samples) : light_count();
     for (std::size_t round = 0; round < rounds; ++round) {
       Shadow shadow[W];
+      // A round of one fixed light for every path: the Lambert lanes' samples as a packet.
+      M packet(false);
+      if (!pick && round < params_.lights.size() && simd::any(lambert_lanes) &&
+          sample_light_lambert(params_.lights[round], path, lambert_lanes, shadow))
+        packet = lambert_lanes;
       for (int i = 0; i < W; ++i) {
         Path& p = path[i];
         const Vertex& v = vertex[i];
-        if (!p.alive || v.kind == Vertex::Kind::none) continue;
+        if (!p.alive || v.kind == Vertex::Kind::none || simd::lane(packet, i)) continue;
         const std::size_t k =
             pick ? std::min(static_cast<std::size_t>(p.rng.next_1d() * static_cast<float>(light_count())), light_count() - 1)
                  : round;
@@ -744,6 +751,80 @@ private:
     float reach = 0.f;
     std::optional<Vec3f> end;
   };
+
+  /// sample_lights() of one light for the Lambert `lanes` as a packet: the same draw and
+  /// the same sample as light.hpp's sample() for ambient light (about the shading
+  /// normal), a point distant light and a quad light without an intensity table; false
+  /// (nothing drawn) for the other kinds, which go lane by lane.
+  bool sample_light_lambert(const Light& light, const PathLanes& path, const M& lanes, Shadow* shadow) const {
+    constexpr float inf = std::numeric_limits<float>::infinity();
+    const auto* ambient = std::get_if<AmbientLight>(&light);
+    const auto* distant = std::get_if<DistantLight>(&light);
+    const auto* quad = std::get_if<QuadLight>(&light);
+    if (!ambient && !(distant && distant->angular_diameter <= 0.f) && !(quad && !quad->distribution)) return false;
+    alignas(64) float in[19][W];
+    std::array<PixelRandom*, W> rngs;
+    for (int i = 0; i < W; ++i) {
+      Path& p = path[i];
+      rngs[static_cast<std::size_t>(i)] = &p.rng;
+      const bool lane = simd::lane(lanes, i);
+      const Vec3f n = lane ? p.sp.n : Vec3f{0.f, 0.f, 1.f}, fn = lane ? p.lambert_normal : n, ng = lane ? p.sp.ng : n;
+      const float c[19] = {p.p.x, p.p.y, p.p.z, n.x, n.y, n.z, fn.x, fn.y, fn.z, ng.x, ng.y, ng.z,
+                           p.lambert_tint.x, p.lambert_tint.y, p.lambert_tint.z,
+                           p.throughput.x, p.throughput.y, p.throughput.z, lane && p.lambert_scatters ? 1.f : 0.f};
+      for (int k = 0; k < 19; ++k) in[k][i] = c[k];
+    }
+    const auto lane3 = [&](int k) {
+      return Vec3<F>{simd::load<Arch>(in[k]), simd::load<Arch>(in[k + 1]), simd::load<Arch>(in[k + 2])};
+    };
+    const Vec3<F> at = lane3(0), n = lane3(3), fn = lane3(6), ng = lane3(9), tint = lane3(12), throughput = lane3(15);
+    const auto [u1, u2] = PixelRandomLanes<Arch>::next_2d_of(rngs, lanes);
+    const Vec3<F> emission(emitted(light));
+    Vec3<F> w, weight;
+    F pdf, reach(inf);
+    M sampled = lanes;
+    if (ambient) {
+      w = detail::sample_cosine(n, u1, u2);
+      pdf = dot(w, n) / F(detail::pi);
+      sampled = sampled & (pdf > F(0.f));
+      weight = emission / pdf;
+    } else if (distant) {
+      w = Vec3<F>(-normalize(distant->direction));
+      pdf = F(inf);
+      weight = emission;
+    } else {
+      const Vec3<F> q = Vec3<F>(quad->position) + Vec3<F>(quad->edge1) * u1 + Vec3<F>(quad->edge2) * u2;
+      const Vec3f normal_area = cross(quad->edge1, quad->edge2);
+      const float area = length(normal_area);
+      const Vec3<F> d = q - at;
+      const F dist2 = dot(d, d), dist = simd::sqrt(dist2);
+      w = d / dist;
+      const F cos_light = -dot(w, Vec3<F>(normal_area)) / F(area);
+      sampled = sampled & (dist > F(0.f)) & (cos_light > F(0.f));  // not the back of the quad
+      pdf = dist2 / (cos_light * F(area));
+      weight = emission / pdf;
+      reach = dist * F(1.f - 1e-4f);
+    }
+    // lambert_value() and the power heuristic, over the lanes.
+    const F cos_i = dot(fn, w);
+    const F f_pdf = cos_i / F(bsdf_detail::pi);
+    const Vec3<F> f_cos = tint * f_pdf;
+    sampled = sampled & (simd::load<Arch>(in[18]) > F(0.f)) & (dot(w, ng) >= F(0.f)) & (cos_i > F(0.f)) &
+              (simd::max(f_cos.x, simd::max(f_cos.y, f_cos.z)) > F(0.f));
+    F mis(1.f);
+    if (params_.light_sampling == LightSampling::mis && !distant) {
+      const F a2 = pdf * pdf, b2 = f_pdf * f_pdf;
+      mis = simd::select(a2 + b2 > F(0.f), a2 / (a2 + b2), F(0.f));
+    }
+    const Vec3<F> contribution = throughput * f_cos * weight * mis;
+    alignas(64) float out[7][W];
+    const F values[7] = {contribution.x, contribution.y, contribution.z, w.x, w.y, w.z, reach};
+    for (int k = 0; k < 7; ++k) simd::store<Arch>(out[k], values[k]);
+    for (int i = 0; i < W; ++i)
+      if (simd::lane(sampled, i))
+        shadow[i] = {{out[0][i], out[1][i], out[2][i]}, {out[3][i], out[4][i], out[5][i]}, out[6][i], std::nullopt};
+    return true;
+  }
 
   /// Traces the shadow rays of the lanes with a contribution as a packet (off each
   /// surface on the side they leave) and adds what arrives, attenuated by volumes.
