@@ -345,11 +345,14 @@ private:
       lambert_lane[i] = path[i].alive && vertex[i].kind == Vertex::Kind::surface && path[i].lambert ? 1.f : 0.f;
     const M lambert_lanes = simd::load<Arch>(lambert_lane) > F(0.f);
 
-    sample_lights(path, vertex, lambert_lanes, ray.time);
+    std::optional<LambertPacket> lambert;
+    if (simd::any(lambert_lanes)) lambert = gather_lambert(path, lambert_lanes);
+
+    sample_lights(path, vertex, lambert, ray.time);
     sample_geometry_lights(path, vertex, ray.time);
 
     // Continue each path by sampling its BSDF or phase function.
-    if (simd::any(lambert_lanes)) sample_lambert(path, lambert_lanes);
+    if (lambert) sample_lambert(path, *lambert);
     for (int i = 0; i < W; ++i) {
       Path& p = path[i];
       const Vertex& v = vertex[i];
@@ -452,32 +455,57 @@ private:
     return f;
   }
 
+  /// What the paths at Lambert surfaces (`lanes`) scatter by, as lanes: gathered once a
+  /// bounce for their light samples and their next directions.
+  struct LambertPacket {
+    M lanes, scatters;  // scatters: lambert_scatters
+    Vec3<F> at, shading_normal, frame_normal, ng, tint, throughput;
+    F offset;
+    std::array<PixelRandom*, W> rngs;
+  };
+
+  static LambertPacket gather_lambert(const PathLanes& path, const M& lanes) {
+    alignas(64) float in[20][W];
+    LambertPacket packet;
+    packet.lanes = lanes;
+    for (int i = 0; i < W; ++i) {
+      Path& p = path[i];
+      packet.rngs[static_cast<std::size_t>(i)] = &p.rng;
+      const bool lane = simd::lane(lanes, i);
+      // Idle lanes get a unit normal, so that their (unused) arithmetic stays finite.
+      const Vec3f n = lane ? p.sp.n : Vec3f{0.f, 0.f, 1.f}, fn = lane ? p.lambert_normal : n, ng = lane ? p.sp.ng : n;
+      const float c[20] = {p.p.x, p.p.y, p.p.z, n.x, n.y, n.z, fn.x, fn.y, fn.z, ng.x, ng.y, ng.z,
+                           p.lambert_tint.x, p.lambert_tint.y, p.lambert_tint.z,
+                           p.throughput.x, p.throughput.y, p.throughput.z, lane ? p.offset : 0.f,
+                           lane && p.lambert_scatters ? 1.f : 0.f};
+      for (int k = 0; k < 20; ++k) in[k][i] = c[k];
+    }
+    const auto lane3 = [&](int k) {
+      return Vec3<F>{simd::load<Arch>(in[k]), simd::load<Arch>(in[k + 1]), simd::load<Arch>(in[k + 2])};
+    };
+    packet.at = lane3(0), packet.shading_normal = lane3(3), packet.frame_normal = lane3(6), packet.ng = lane3(9);
+    packet.tint = lane3(12), packet.throughput = lane3(15);
+    packet.offset = simd::load<Arch>(in[18]);
+    packet.scatters = lanes & (simd::load<Arch>(in[19]) > F(0.f));
+    return packet;
+  }
+
   /// The next direction of the Lambert `lanes`' paths, drawn as a packet: the same draws
   /// as sample_direction() (u_lobe, then the direction), a cosine-weighted direction about
   /// each frame normal, of weight f·cos / pdf = the tint, leaving off the surface on wo's side.
-  void sample_lambert(const PathLanes& path, const M& lanes) const {
-    alignas(64) float in[14][W];
-    std::array<PixelRandom*, W> rngs;
-    for (int i = 0; i < W; ++i) {
-      Path& p = path[i];
-      rngs[static_cast<std::size_t>(i)] = &p.rng;
-      const bool lane = simd::lane(lanes, i);
-      const Vec3f n = lane ? p.lambert_normal : Vec3f{0.f, 0.f, 1.f}, ng = lane ? p.sp.ng : n;
-      const float c[14] = {n.x, n.y, n.z, ng.x, ng.y, ng.z, p.p.x, p.p.y, p.p.z, lane ? p.offset : 0.f,
-                           p.lambert_tint.x, p.lambert_tint.y, p.lambert_tint.z, lane && p.lambert_scatters ? 1.f : 0.f};
-      for (int k = 0; k < 14; ++k) in[k][i] = c[k];
-    }
-    const auto lane3 = [&](int k) { return Vec3<F>{simd::load<Arch>(in[k]), simd::load<Arch>(in[k + 1]), simd::load<Arch>(in[k + 2])}; };
-    const Vec3<F> n = lane3(0), ng = lane3(3), at = lane3(6), tint = lane3(10);
-    PixelRandomLanes<Arch>::next_2d_of(rngs, lanes);  // u_lobe: there is one lobe to pick
-    const auto [u1, u2] = PixelRandomLanes<Arch>::next_2d_of(rngs, lanes);
+  void sample_lambert(const PathLanes& path, const LambertPacket& packet) const {
+    const M& lanes = packet.lanes;
+    const Vec3<F>& n = packet.frame_normal;
+    PixelRandomLanes<Arch>::next_2d_of(packet.rngs, lanes);  // u_lobe: there is one lobe to pick
+    const auto [u1, u2] = PixelRandomLanes<Arch>::next_2d_of(packet.rngs, lanes);
     const Vec3<F> wi = normalize(detail::sample_cosine(n, u1, u2));
     const F cos_i = dot(n, wi);
-    const M scattered = lanes & (simd::load<Arch>(in[13]) > F(0.f)) & (cos_i > F(0.f));
+    const M scattered = packet.scatters & (cos_i > F(0.f));
     const F pdf = cos_i / F(bsdf_detail::pi);
-    const Vec3<F> org = at + ng * simd::load<Arch>(in[9]);
+    const Vec3<F> org = packet.at + packet.ng * packet.offset;
+    const Vec3<F> throughput = packet.throughput * packet.tint;
     alignas(64) float out[10][W];
-    const F values[10] = {wi.x, wi.y, wi.z, tint.x, tint.y, tint.z, pdf, org.x, org.y, org.z};
+    const F values[10] = {wi.x, wi.y, wi.z, throughput.x, throughput.y, throughput.z, pdf, org.x, org.y, org.z};
     for (int k = 0; k < 10; ++k) simd::store<Arch>(out[k], values[k]);
     for (int i = 0; i < W; ++i) {
       if (!simd::lane(lanes, i)) continue;
@@ -487,7 +515,7 @@ private:
         continue;
       }
       const Vec3f dir{out[0][i], out[1][i], out[2][i]};
-      p.throughput = p.throughput * Vec3f{out[3][i], out[4][i], out[5][i]};
+      p.throughput = {out[3][i], out[4][i], out[5][i]};
       p.straight = p.straight && dir == p.dir;
       p.specular_transmissions = p.passed_straight = p.previous_delta = false;
       p.previous_pdf = out[6][i];
@@ -615,7 +643,8 @@ private:
   /// of lightSamples lights picked at random, each lane its own), the shadow rays of one
   /// round traced as a packet (at the camera rays' `time`, where lights of moving
   /// instances are placed) and attenuated by the volumes they cross.
-  void sample_lights(const PathLanes& path, const Vertex* vertex, const M& lambert_lanes, const F& time) const {
+  void sample_lights(const PathLanes& path, const Vertex* vertex, const std::optional<LambertPacket>& lambert,
+                     const F& time) const {
     // Without light sampling only BSDF-sampled rays find lights; delta lights then vanish.
     if (params_.light_sampling == LightSampling::bsdf_only || light_count() == 0) return;
     const bool pick = picks_lights();
@@ -625,9 +654,9 @@ private:
       Shadow shadow[W];
       // A round of one fixed light for every path: the Lambert lanes' samples as a packet.
       M packet(false);
-      if (!pick && round < params_.lights.size() && simd::any(lambert_lanes) &&
-          sample_light_lambert(params_.lights[round], path, lambert_lanes, shadow))
-        packet = lambert_lanes;
+      if (!pick && round < params_.lights.size() && lambert &&
+          sample_light_lambert(params_.lights[round], *lambert, shadow))
+        packet = lambert->lanes;
       for (int i = 0; i < W; ++i) {
         Path& p = path[i];
         const Vertex& v = vertex[i];
@@ -756,29 +785,15 @@ private:
   /// the same sample as light.hpp's sample() for ambient light (about the shading
   /// normal), a point distant light and a quad light without an intensity table; false
   /// (nothing drawn) for the other kinds, which go lane by lane.
-  bool sample_light_lambert(const Light& light, const PathLanes& path, const M& lanes, Shadow* shadow) const {
+  bool sample_light_lambert(const Light& light, const LambertPacket& packet, Shadow* shadow) const {
     constexpr float inf = std::numeric_limits<float>::infinity();
     const auto* ambient = std::get_if<AmbientLight>(&light);
     const auto* distant = std::get_if<DistantLight>(&light);
     const auto* quad = std::get_if<QuadLight>(&light);
     if (!ambient && !(distant && distant->angular_diameter <= 0.f) && !(quad && !quad->distribution)) return false;
-    alignas(64) float in[19][W];
-    std::array<PixelRandom*, W> rngs;
-    for (int i = 0; i < W; ++i) {
-      Path& p = path[i];
-      rngs[static_cast<std::size_t>(i)] = &p.rng;
-      const bool lane = simd::lane(lanes, i);
-      const Vec3f n = lane ? p.sp.n : Vec3f{0.f, 0.f, 1.f}, fn = lane ? p.lambert_normal : n, ng = lane ? p.sp.ng : n;
-      const float c[19] = {p.p.x, p.p.y, p.p.z, n.x, n.y, n.z, fn.x, fn.y, fn.z, ng.x, ng.y, ng.z,
-                           p.lambert_tint.x, p.lambert_tint.y, p.lambert_tint.z,
-                           p.throughput.x, p.throughput.y, p.throughput.z, lane && p.lambert_scatters ? 1.f : 0.f};
-      for (int k = 0; k < 19; ++k) in[k][i] = c[k];
-    }
-    const auto lane3 = [&](int k) {
-      return Vec3<F>{simd::load<Arch>(in[k]), simd::load<Arch>(in[k + 1]), simd::load<Arch>(in[k + 2])};
-    };
-    const Vec3<F> at = lane3(0), n = lane3(3), fn = lane3(6), ng = lane3(9), tint = lane3(12), throughput = lane3(15);
-    const auto [u1, u2] = PixelRandomLanes<Arch>::next_2d_of(rngs, lanes);
+    const M& lanes = packet.lanes;
+    const Vec3<F>&at = packet.at, &n = packet.shading_normal;
+    const auto [u1, u2] = PixelRandomLanes<Arch>::next_2d_of(packet.rngs, lanes);
     const Vec3<F> emission(emitted(light));
     Vec3<F> w, weight;
     F pdf, reach(inf);
@@ -806,17 +821,17 @@ private:
       reach = dist * F(1.f - 1e-4f);
     }
     // lambert_value() and the power heuristic, over the lanes.
-    const F cos_i = dot(fn, w);
+    const F cos_i = dot(packet.frame_normal, w);
     const F f_pdf = cos_i / F(bsdf_detail::pi);
-    const Vec3<F> f_cos = tint * f_pdf;
-    sampled = sampled & (simd::load<Arch>(in[18]) > F(0.f)) & (dot(w, ng) >= F(0.f)) & (cos_i > F(0.f)) &
+    const Vec3<F> f_cos = packet.tint * f_pdf;
+    sampled = sampled & packet.scatters & (dot(w, packet.ng) >= F(0.f)) & (cos_i > F(0.f)) &
               (simd::max(f_cos.x, simd::max(f_cos.y, f_cos.z)) > F(0.f));
     F mis(1.f);
     if (params_.light_sampling == LightSampling::mis && !distant) {
       const F a2 = pdf * pdf, b2 = f_pdf * f_pdf;
       mis = simd::select(a2 + b2 > F(0.f), a2 / (a2 + b2), F(0.f));
     }
-    const Vec3<F> contribution = throughput * f_cos * weight * mis;
+    const Vec3<F> contribution = packet.throughput * f_cos * weight * mis;
     alignas(64) float out[7][W];
     const F values[7] = {contribution.x, contribution.y, contribution.z, w.x, w.y, w.z, reach};
     for (int k = 0; k < 7; ++k) simd::store<Arch>(out[k], values[k]);
