@@ -382,7 +382,7 @@ inline OSPData shared_voxels(const std::vector<T>& voxels, OSPDataType type, std
 }
 
 struct VolumeScene {
-  OSPVolume volume = ospNewVolume("structuredRegular");
+  OSPVolume volume;
   OSPTransferFunction tf = nullptr;
   OSPVolumetricModel model = ospNewVolumetricModel(volume);
   OSPGroup group = ospNewGroup();
@@ -392,7 +392,7 @@ struct VolumeScene {
   OSPRenderer renderer = ospNewRenderer("scivis");
   const std::vector<float> unit_voxels = std::vector<float>(8, 1.f);
 
-  VolumeScene() {
+  explicit VolumeScene(const char* volume_type = "structuredRegular") : volume(ospNewVolume(volume_type)) {
     ospSetVec3f(camera, "position", 0.5f, 0.5f, -5.f);
     ospSetVec3f(camera, "direction", 0.f, 0.f, 1.f);
     ospSetFloat(camera, "height", 1.f);
@@ -409,6 +409,10 @@ struct VolumeScene {
   /// Commits the volume with `data`, and the model with `transfer_function` (taken over).
   void commit(OSPData data, OSPTransferFunction transfer_function, float density_scale = 1.f) {
     ospSetObject(volume, "data", data);
+    commit_model(transfer_function, density_scale);
+  }
+  /// Commits the volume as its parameters stand, and the model with `transfer_function` (taken over).
+  void commit_model(OSPTransferFunction transfer_function, float density_scale = 1.f) {
     ospCommit(volume);
     ospRelease(tf);
     tf = transfer_function;

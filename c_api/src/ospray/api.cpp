@@ -357,7 +357,7 @@ OSPGeometry ospNewGeometry(const char* type) {
 OSPVolume ospNewVolume(const char* type) {
   return guarded("ospNewVolume", [&] {
     const std::string t = type_string(type);
-    if (t != "structuredRegular") unknown_type("volume", t, "structuredRegular");
+    if (t != "structuredRegular" && t != "unstructured") unknown_type("volume", t, "structuredRegular, unstructured");
     return created<OSPVolume>(new VolumeObject(t), t);
   }, OSPVolume{});
 }

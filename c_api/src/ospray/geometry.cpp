@@ -588,8 +588,11 @@ namespace {
 std::shared_ptr<const Isosurface> make_isosurface(const EngineVolume& volume, const std::vector<float>& isovalues) {
   return std::visit(
       [&](const auto& v) -> std::shared_ptr<const Isosurface> {
-        if constexpr (std::is_same_v<std::decay_t<decltype(v)>, std::monostate>)
+        using V = std::decay_t<decltype(v)>;
+        if constexpr (std::is_same_v<V, std::monostate>)
           throw Error("isosurface: its volume has not been committed");
+        else if constexpr (std::is_same_v<V, std::shared_ptr<const Unstructured>>)
+          throw Error("isosurface: isosurfaces of unstructured volumes are not supported yet");
         else
           return std::make_shared<const Isosurface>(v, isovalues);
       },

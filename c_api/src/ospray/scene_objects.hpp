@@ -77,6 +77,8 @@ protected:
   void on_commit() override;
 
 private:
+  EngineVolume commit_unstructured();
+
   EngineVolume volume_;
   bool zero_copy_ = false;
   Box3f bounds_;

@@ -1,4 +1,5 @@
-// OSPRay's structuredRegular volume, piecewiseLinear transfer function and volumetric model.
+// OSPRay's structuredRegular and unstructured volumes, piecewiseLinear transfer function and
+// volumetric model.
 #include "scene_common.hpp"
 
 #include <algorithm>
@@ -116,7 +117,75 @@ std::size_t add_volume(shim::EngineWorld& world, const EngineVolumetricModel& mo
       model);
 }
 
+namespace {
+
+/// The elements of a 1D array of uint32 or uint64 (OSPRay takes either for indices).
+std::vector<std::uint64_t> read_indices(const Data& data) {
+  std::vector<std::uint64_t> out(static_cast<std::size_t>(data.size()));
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    if (data.element_type() == OSP_UINT) {
+      std::uint32_t v;
+      std::memcpy(&v, data.element(i), sizeof v);
+      out[i] = v;
+    } else {
+      std::memcpy(&out[i], data.element(i), sizeof out[i]);
+    }
+  }
+  return out;
+}
+
+std::vector<float> read_floats(const Data& data) {
+  std::vector<float> out(static_cast<std::size_t>(data.size()));
+  for (std::size_t i = 0; i < out.size(); ++i) out[i] = read_float(data.element(i));
+  return out;
+}
+
+}  // namespace
+
+/// OSPRay's `unstructured`: vertex.position, vertex.data or cell.data, index, cell.index,
+/// cell.type, background. (hexIterative and precomputedNormals are accepted: hexahedra
+/// are always inverted iteratively, which is exact for faces that are not planar too.)
+EngineVolume VolumeObject::commit_unstructured() {
+  UnstructuredData u;
+  const auto required = [&](const char* id, std::initializer_list<OSPDataType> types, const char* what) -> const Data& {
+    const Data* d = get_data(*this, find(id), id, types);
+    if (!d) throw Error(name() + ": required parameter '" + id + "' (" + what + ") is missing");
+    return *d;
+  };
+  const Data& positions = required("vertex.position", {OSP_VEC3F}, "array of vec3f");
+  u.positions.resize(static_cast<std::size_t>(positions.size()));
+  for (std::size_t i = 0; i < u.positions.size(); ++i) {
+    const std::byte* e = positions.element(i);
+    u.positions[i] = {read_float(e), read_float(e + 4), read_float(e + 8)};
+  }
+  const Data* vertex_data = get_data(*this, find("vertex.data"), "vertex.data", {OSP_FLOAT});
+  const Data* cell_data = get_data(*this, find("cell.data"), "cell.data", {OSP_FLOAT});
+  if (!vertex_data && !cell_data)
+    throw Error(name() + ": required parameter 'vertex.data' or 'cell.data' (array of float) is missing");
+  // OSPRay takes the cells' values where both are given.
+  if (cell_data)
+    u.cell_values = read_floats(*cell_data);
+  else
+    u.vertex_values = read_floats(*vertex_data);
+  u.index = read_indices(required("index", {OSP_UINT, OSP_ULONG}, "array of uint32 or uint64"));
+  u.cell_index = read_indices(required("cell.index", {OSP_UINT, OSP_ULONG}, "array of uint32 or uint64"));
+  const Data& types = required("cell.type", {OSP_UCHAR}, "array of uchar");
+  u.cell_type.resize(static_cast<std::size_t>(types.size()));
+  for (std::size_t i = 0; i < u.cell_type.size(); ++i) u.cell_type[i] = static_cast<std::uint8_t>(*types.element(i));
+  u.background = get_float("background", u.background);
+  get_bool("hexIterative", false);
+  get_bool("precomputedNormals", false);
+  return std::make_shared<const Unstructured>(std::move(u));  // its errors name it "unstructured volume"
+}
+
 void VolumeObject::on_commit() {
+  if (subtype() == "unstructured") {
+    EngineVolume volume = commit_unstructured();
+    bounds_ = std::get<std::shared_ptr<const Unstructured>>(volume)->bounds();
+    volume_ = std::move(volume);
+    zero_copy_ = false;
+    return;
+  }
   // The factory creates no other types.
   const std::string voxel_types = "uchar, short, ushort, float or double";
   const Param* p = find("data");

@@ -26,6 +26,7 @@
 #include "sciray/math/box.hpp"
 #include "sciray/math/vec.hpp"
 #include "sciray/simd/packet.hpp"
+#include "sciray/volume/macrocells.hpp"
 
 namespace sciray {
 
@@ -192,6 +193,47 @@ public:
 
   /// The voxel value at index (x, y, z).
   float voxel(std::int64_t x, std::int64_t y, std::int64_t z) const { return layout_.at(x, y, z); }
+
+  /// The extent of one cell along each axis: what sampling rates are relative to.
+  const Vec3f& cell_size() const { return grid_.spacing; }
+
+  /// Macrocells of n³ cells in voxel coordinates (voxel i at i), which for cell-centred
+  /// data start half a spacing inside the box.
+  MacrocellGrid macrocell_grid(std::int64_t n) const {
+    MacrocellGrid m;
+    m.lower = grid_.cell_centered ? grid_.origin + grid_.spacing * 0.5f : grid_.origin;
+    m.size = grid_.spacing * static_cast<float>(n);
+    for (int k = 0; k < 3; ++k) m.counts[k] = std::max<std::int64_t>(1, (dims()[k] - 1 + n - 1) / n);
+    return m;
+  }
+  /// Widens the ranges of macrocell_grid(n) by every voxel: each macrocell's range holds
+  /// every voxel its samples can read (its cells, plus one more voxel on each side for
+  /// the cubic filter's 4³ neighbourhood; every filter's sample lies within the range of
+  /// the voxels it reads, as the weights are positive and sum to one).
+  void widen_macrocell_ranges(const MacrocellGrid& m, std::int64_t n, std::vector<float>& ranges) const {
+    const VolumeDims& d = dims();
+    for (std::int64_t z = 0; z < d[2]; ++z)
+      for (std::int64_t y = 0; y < d[1]; ++y)
+        for (std::int64_t x = 0; x < d[0]; ++x) {
+          const float v = voxel(x, y, z);
+          if (!std::isfinite(v))
+            throw Error("structuredRegular: voxel (" + std::to_string(x) + ", " + std::to_string(y) + ", " +
+                        std::to_string(z) + ") is not finite");
+          const std::int64_t at[3] = {x, y, z};
+          std::int64_t lo[3], hi[3];
+          for (int k = 0; k < 3; ++k) {
+            lo[k] = std::clamp<std::int64_t>((at[k] - 2) / n, 0, m.counts[k] - 1);
+            hi[k] = std::clamp<std::int64_t>((at[k] + 1) / n, 0, m.counts[k] - 1);
+          }
+          for (std::int64_t cz = lo[2]; cz <= hi[2]; ++cz)
+            for (std::int64_t cy = lo[1]; cy <= hi[1]; ++cy)
+              for (std::int64_t cx = lo[0]; cx <= hi[0]; ++cx) {
+                const std::size_t i = m.index(cx, cy, cz);
+                ranges[2 * i] = std::min(ranges[2 * i], v);
+                ranges[2 * i + 1] = std::max(ranges[2 * i + 1], v);
+              }
+        }
+  }
 
   /// Continuous voxel coordinates of a world position (voxel i at i).
   template <class F>

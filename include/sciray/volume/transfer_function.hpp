@@ -44,9 +44,11 @@ public:
   const std::vector<Vec3f>& colors() const { return colors_; }
   const std::vector<float>& opacities() const { return opacities_; }
 
+  /// A value that is not a number (outside an unstructured volume's cells) is transparent.
   template <class Arch>
   simd::Float<Arch> opacity(const simd::Float<Arch>& value) const {
-    return lookup<Arch>(opacity_table_, value);
+    using F = simd::Float<Arch>;
+    return simd::select(value == value, lookup<Arch>(opacity_table_, value), F(0.f));
   }
   template <class Arch>
   Vec3<simd::Float<Arch>> color(const simd::Float<Arch>& value) const {

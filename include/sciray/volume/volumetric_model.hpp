@@ -10,8 +10,8 @@
 // A volume placed by a transform is marched in its object space with the world ray's t
 // (volume_placement.hpp): σ stays per unit of t, steps are a fraction of its cell.
 //
-// Empty-space skipping: the volume is cut into macrocells of 8³ cells that record the range
-// of values inside (with the voxels trilinear samples read at their border); for the
+// Empty-space skipping: the volume is cut into macrocells (volume/macrocells.hpp; 8³ cells of
+// a grid) that record the range of values samples inside can take; for the
 // current transfer function each macrocell knows the largest opacity it can produce. A
 // lane whose sample falls in a macrocell that cannot produce any skips every step whose
 // midpoint lies before the macrocell's exit, so skipping changes which samples are taken
@@ -126,7 +126,7 @@ public:
 
   /// The step between samples in object units for `sampling_rate` samples per cell.
   float step(float sampling_rate) const {
-    const Vec3f& s = volume_->grid().spacing;
+    const Vec3f& s = volume_->cell_size();
     return std::min({s.x, s.y, s.z}) / sampling_rate;
   }
 
@@ -166,7 +166,7 @@ public:
     // start + (k + jitter)·step inside the box only, so a crossing shorter than a step is
     // seen with probability length/step; at the mean jitter, where there is half a step
     // of the box left.
-    const Vec3f& spacing = volume_->grid().spacing;
+    const Vec3f& spacing = volume_->cell_size();
     const F ospray_step = simd::min(simd::min(F(spacing.x) * simd::abs(inv.x), F(spacing.y) * simd::abs(inv.y)),
                                     F(spacing.z) * simd::abs(inv.z)) *
                           F(1.f / how.sampling_rate);
@@ -174,11 +174,8 @@ public:
     const F visible_sigma = F(-std::log1p(-how.hit_opacity)) / (F(density_scale_) * ospray_step);
     F previous_end(0.f);
     auto have_previous = simd::Mask<Arch>(false);
-    // Macrocells are cut in voxel coordinates (voxel i at i), which for cell-centred data
-    // sit half a spacing inside the box.
-    const auto& grid = volume_->grid();
-    const Vec3f cell_size = grid.spacing * static_cast<float>(macrocell_cells);
-    const Vec3f grid_lower = grid.cell_centered ? grid.origin + grid.spacing * 0.5f : grid.origin;
+    const Vec3f& cell_size = macrocells_.size;
+    const Vec3f& grid_lower = macrocells_.lower;
     while (simd::any(live)) {
       F step = dt;
       auto sampled = live;
@@ -226,6 +223,8 @@ public:
             start = simd::select(have_previous, previous_end, volume_->template sample<Arch>(ray.org + ray.dir * t));
           const F end = volume_->template sample<Arch>(ray.org + ray.dir * step_end);
           tf_.template segment<Arch>(start, end, sigma, color);
+          const simd::Mask<Arch> inside_cells = (start == start) & (end == end);  // NaN: outside them
+          sigma = simd::select(inside_cells, sigma, F(0.f));
           previous_end = end;
         } else {
           const F value = volume_->template sample<Arch>(p);
@@ -332,12 +331,13 @@ private:
   MacrocellAt<Arch> macrocell(const Vec3<simd::Float<Arch>>& p) const {
     using F = simd::Float<Arch>;
     using I = simd::Int<Arch>;
-    const Vec3<F> m = volume_->to_voxel(p) * F(1.f / macrocell_cells);
+    const auto& counts = macrocells_.counts;
+    const Vec3<F> m = (p - Vec3<F>(macrocells_.lower)) * Vec3<F>(inv_macrocell_size_);
     const auto cell_index = [&](const F& v, int axis) {
-      return simd::to_int(simd::min(simd::max(v, F(0.f)), F(static_cast<float>(cells_[axis] - 1))));
+      return simd::to_int(simd::min(simd::max(v, F(0.f)), F(static_cast<float>(counts[axis] - 1))));
     };
     const I x = cell_index(m.x, 0), y = cell_index(m.y, 1), z = cell_index(m.z, 2);
-    const I index = (z * I(static_cast<std::int32_t>(cells_[1])) + y) * I(static_cast<std::int32_t>(cells_[0])) + x;
+    const I index = (z * I(static_cast<std::int32_t>(counts[1])) + y) * I(static_cast<std::int32_t>(counts[0])) + x;
     return {x, y, z, simd::gather<Arch>(opacity_.data(), index)};
   }
 
@@ -372,11 +372,11 @@ private:
     const F leave = simd::min(box_exit, t_end);
     auto tracking = active & (t < leave);
     if (!(majorant_ > 0.f)) return;
-    const auto& grid = volume_->grid();
-    const Vec3f cell_size = grid.spacing * static_cast<float>(macrocell_cells);
-    const Vec3f grid_lower = grid.cell_centered ? grid.origin + grid.spacing * 0.5f : grid.origin;
+    const Vec3f& cell_size = macrocells_.size;
+    const Vec3f& grid_lower = macrocells_.lower;
     // Probing a little past t finds the macrocell a lane is entering, not the one it leaves.
-    const F nudge = F(1e-4f * std::min({grid.spacing.x, grid.spacing.y, grid.spacing.z})) * placed.t_per_unit();
+    const Vec3f& spacing = volume_->cell_size();
+    const F nudge = F(1e-4f * std::min({spacing.x, spacing.y, spacing.z})) * placed.t_per_unit();
     while (simd::any(tracking)) {
       const auto [cx, cy, cz, majorant] = macrocell<Arch>(ray.org + ray.dir * (t + nudge));
       // The outermost macrocells reach on to the box's faces (and past them: `leave` stops
@@ -384,7 +384,8 @@ private:
       const auto planes = [&](const I& c, int axis, float origin, float size, F& lo, F& hi) {
         const F cf = simd::to_float(c);
         lo = simd::select(cf == F(0.f), F(-inf), F(origin) + cf * F(size));
-        hi = simd::select(cf == F(static_cast<float>(cells_[axis] - 1)), F(inf), F(origin) + (cf + F(1.f)) * F(size));
+        hi = simd::select(cf == F(static_cast<float>(macrocells_.counts[axis] - 1)), F(inf),
+                          F(origin) + (cf + F(1.f)) * F(size));
       };
       Vec3<F> lower, upper;
       planes(cx, 0, grid_lower.x, cell_size.x, lower.x, upper.x);
@@ -479,38 +480,10 @@ private:
   }
 
   void build_macrocell_ranges() {
-    const VolumeDims& d = volume_->dims();
-    for (int k = 0; k < 3; ++k) cells_[k] = std::max<std::int64_t>(1, (d[k] - 1 + macrocell_cells - 1) / macrocell_cells);
-    const std::size_t count = static_cast<std::size_t>(cells_[0] * cells_[1] * cells_[2]);
-    if (count > static_cast<std::size_t>(INT32_MAX)) throw Error("volume: too many macrocells for 32-bit indices");
-    ranges_.assign(2 * count, 0.f);
-    for (std::size_t i = 0; i < count; ++i)
-      ranges_[2 * i] = std::numeric_limits<float>::infinity(), ranges_[2 * i + 1] = -std::numeric_limits<float>::infinity();
-    // Every voxel widens the range of each macrocell whose samples can read it: those
-    // whose cells, plus one more voxel on each side for the cubic filter's 4³
-    // neighbourhood, contain it. (Every filter's sample lies within the range of the
-    // voxels it reads: the weights are positive and sum to one.)
-    for (std::int64_t z = 0; z < d[2]; ++z)
-      for (std::int64_t y = 0; y < d[1]; ++y)
-        for (std::int64_t x = 0; x < d[0]; ++x) {
-          const float v = volume_->voxel(x, y, z);
-          if (!std::isfinite(v))
-            throw Error("structuredRegular: voxel (" + std::to_string(x) + ", " + std::to_string(y) + ", " +
-                        std::to_string(z) + ") is not finite");
-          const std::int64_t at[3] = {x, y, z};
-          std::int64_t lo[3], hi[3];
-          for (int k = 0; k < 3; ++k) {
-            lo[k] = std::clamp<std::int64_t>((at[k] - 2) / macrocell_cells, 0, cells_[k] - 1);
-            hi[k] = std::clamp<std::int64_t>((at[k] + 1) / macrocell_cells, 0, cells_[k] - 1);
-          }
-          for (std::int64_t cz = lo[2]; cz <= hi[2]; ++cz)
-            for (std::int64_t cy = lo[1]; cy <= hi[1]; ++cy)
-              for (std::int64_t cx = lo[0]; cx <= hi[0]; ++cx) {
-                const std::size_t i = static_cast<std::size_t>((cz * cells_[1] + cy) * cells_[0] + cx);
-                ranges_[2 * i] = std::min(ranges_[2 * i], v);
-                ranges_[2 * i + 1] = std::max(ranges_[2 * i + 1], v);
-              }
-        }
+    macrocells_ = volume_->macrocell_grid(macrocell_cells);
+    inv_macrocell_size_ = {1.f / macrocells_.size.x, 1.f / macrocells_.size.y, 1.f / macrocells_.size.z};
+    ranges_ = macrocells_.empty_ranges();
+    volume_->widen_macrocell_ranges(macrocells_, macrocell_cells, ranges_);
   }
 
   void derive_macrocell_opacities() {
@@ -528,7 +501,8 @@ private:
   float anisotropy_;
   float gradient_shading_scale_ = 0.f;
   float majorant_ = 0.f;
-  std::array<std::int64_t, 3> cells_{};
+  MacrocellGrid macrocells_;
+  Vec3f inv_macrocell_size_;
   std::vector<float> ranges_;   ///< min, max per macrocell
   std::vector<float> opacity_;  ///< the largest σ the transfer function gives inside
 };

@@ -25,6 +25,7 @@
 #include "sciray/scene/volume_world.hpp"
 #include "sciray/scene/world.hpp"
 #include "sciray/volume/structured_regular.hpp"
+#include "sciray/volume/unstructured.hpp"
 #include "sciray/simd/arch.hpp"
 
 /// Marks what libsciray_ospray exports (it is built with hidden visibility).
@@ -33,13 +34,13 @@
 namespace sciray::shim {
 
 /// The full set of geometry and volume types, as the C API and the tool need it: every
-/// voxel type in the linear (shared) and bricked layouts.
+/// voxel type in the linear (shared) and bricked layouts, and unstructured volumes.
 using EngineWorld =
     VolumeWorld<World<TriangleMesh, Spheres, Curves, Boxes, Planes, Isosurface, VolumeSlice, Subdivision>,
                 StructuredRegular<std::uint8_t>, StructuredRegular<std::int16_t>, StructuredRegular<std::uint16_t>,
                 StructuredRegular<float>, StructuredRegular<double>, StructuredRegular<std::uint8_t, BrickedLayout>,
                 StructuredRegular<std::int16_t, BrickedLayout>, StructuredRegular<std::uint16_t, BrickedLayout>,
-                StructuredRegular<float, BrickedLayout>, StructuredRegular<double, BrickedLayout>>;
+                StructuredRegular<float, BrickedLayout>, StructuredRegular<double, BrickedLayout>, Unstructured>;
 
 /// One ray's closest hit, as the packet paths report it (for cross-ISA checks).
 struct TraceResult {

@@ -1,0 +1,406 @@
+#pragma once
+// Unstructured (OSPRay's `unstructured`): a volume of tetrahedra, hexahedra, wedges and
+// pyramids that share vertices, with values at the vertices (interpolated inside each
+// cell) or one value per cell, as finite-element and CFD codes write them (VTK's
+// unstructured grid; cell types and vertex orders are VTK's).
+//
+// A sample finds its cell through a bounding volume hierarchy over the cells' boxes, whose
+// nodes also hold the range of values beneath them, and interpolates exactly in the cell:
+// barycentric coordinates in a tetrahedron, and in the other cells the inverse of their
+// isoparametric map (trilinear for hexahedra, linear × bilinear for wedges and pyramids),
+// found by Newton's method, which is exact for cells whose faces are not planar too.
+// Outside every cell a sample is `background` (NaN by default: transparent).
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <numeric>
+#include <string>
+#include <vector>
+
+#include "sciray/error.hpp"
+#include "sciray/math/box.hpp"
+#include "sciray/math/vec.hpp"
+#include "sciray/simd/packet.hpp"
+#include "sciray/volume/macrocells.hpp"
+
+namespace sciray {
+
+/// OSPRay's (and VTK's) cell type codes.
+enum class CellType : std::uint8_t { tetrahedron = 10, hexahedron = 12, wedge = 13, pyramid = 14 };
+
+/// How many vertices a cell of type `type` has; 0 for a code that is not a cell type.
+inline int cell_vertex_count(std::uint8_t type) {
+  switch (static_cast<CellType>(type)) {
+    case CellType::tetrahedron: return 4;
+    case CellType::hexahedron: return 8;
+    case CellType::wedge: return 6;
+    case CellType::pyramid: return 5;
+  }
+  return 0;
+}
+
+/// An unstructured volume as OSPRay's parameters describe it.
+struct UnstructuredData {
+  std::vector<Vec3f> positions;            ///< vertex.position
+  std::vector<float> vertex_values;        ///< vertex.data, one per vertex (or cell_values)
+  std::vector<float> cell_values;          ///< cell.data, one per cell
+  std::vector<std::uint64_t> index;        ///< index: the vertices of every cell, one cell after another
+  std::vector<std::uint64_t> cell_index;   ///< cell.index: where each cell's vertices start in `index`
+  std::vector<std::uint8_t> cell_type;     ///< cell.type: a CellType code per cell
+  float background = std::numeric_limits<float>::quiet_NaN();  ///< the value outside every cell
+};
+
+class Unstructured {
+public:
+  explicit Unstructured(UnstructuredData data) : d_(std::move(data)) {
+    validate();
+    build_hierarchy();
+  }
+
+  std::size_t cell_count() const { return d_.cell_index.size(); }
+  Box3f bounds() const { return nodes_.front().box; }
+  std::size_t owned_bytes() const {
+    return d_.positions.size() * sizeof(Vec3f) + (d_.vertex_values.size() + d_.cell_values.size()) * sizeof(float) +
+           (d_.index.size() + d_.cell_index.size()) * sizeof(std::uint64_t) + d_.cell_type.size() +
+           nodes_.size() * sizeof(Node) + order_.size() * sizeof(std::uint32_t);
+  }
+  /// The smallest and largest value inside the cells.
+  std::array<float, 2> value_range() const { return {nodes_.front().lo, nodes_.front().hi}; }
+
+  /// A typical cell's extent (the median over cells of their boxes' mean side), the same
+  /// along every axis: what sampling rates are relative to.
+  const Vec3f& cell_size() const { return cell_size_; }
+
+  /// Macrocells of about n typical cells a side over the volume's box, at most 128 a side.
+  MacrocellGrid macrocell_grid(std::int64_t n) const {
+    MacrocellGrid m;
+    const Box3f box = bounds();
+    m.lower = box.lower;
+    for (int k = 0; k < 3; ++k) {
+      const float extent = box.upper[k] - box.lower[k];
+      const float cells = std::ceil(extent / (static_cast<float>(n) * cell_size_.x));
+      m.counts[k] = std::clamp<std::int64_t>(static_cast<std::int64_t>(cells), 1, 128);
+      const float size = extent / static_cast<float>(m.counts[k]);
+      (k == 0 ? m.size.x : k == 1 ? m.size.y : m.size.z) = size > 0.f ? size : 1.f;
+    }
+    return m;
+  }
+  /// Widens the ranges of `m` by every cell's values over the macrocells its box overlaps
+  /// (inside a cell the interpolant stays within its vertices' values).
+  void widen_macrocell_ranges(const MacrocellGrid& m, std::int64_t, std::vector<float>& ranges) const {
+    for (std::uint32_t c = 0; c < cell_count(); ++c) {
+      const auto [lo, hi] = cell_range(c);
+      m.widen(cell_box(c), lo, hi, ranges);
+    }
+  }
+
+  /// The value at p: interpolated in the cell that holds it, else the background.
+  float sample(const Vec3f& p) const {
+    float value = d_.background;
+    locate(p, [&](std::uint32_t cell, const std::array<float, 8>& weights) {
+      value = interpolate(cell, weights);
+    });
+    return value;
+  }
+  template <class Arch>
+  simd::Float<Arch> sample(const Vec3<simd::Float<Arch>>& p) const {
+    if constexpr (std::is_same_v<Arch, simd::scalar>) {
+      return sample(p);
+    } else {
+      constexpr int W = simd::width<Arch>;
+      alignas(64) float out[W];
+      for (int i = 0; i < W; ++i) out[i] = sample(Vec3f{simd::lane(p.x, i), simd::lane(p.y, i), simd::lane(p.z, i)});
+      return simd::load<Arch>(out);
+    }
+  }
+
+  /// The gradient by central differences a tenth of a typical cell apart; components
+  /// where a neighbour lies outside every cell are 0.
+  template <class Arch>
+  Vec3<simd::Float<Arch>> gradient(const Vec3<simd::Float<Arch>>& p) const {
+    using F = simd::Float<Arch>;
+    const float h = 0.1f * cell_size_.x;
+    const auto difference = [&](const Vec3f& axis) {
+      const F a = sample<Arch>(p + Vec3<F>(axis * h)), b = sample<Arch>(p - Vec3<F>(axis * h));
+      const F g = (a - b) * F(0.5f / h);
+      return simd::select(g == g, g, F(0.f));  // NaN outside the cells
+    };
+    return {difference({1.f, 0.f, 0.f}), difference({0.f, 1.f, 0.f}), difference({0.f, 0.f, 1.f})};
+  }
+  template <class Arch>
+  Vec3<simd::Float<Arch>> shading_gradient(const Vec3<simd::Float<Arch>>& p) const {
+    return gradient<Arch>(p);
+  }
+
+private:
+  struct Node {
+    Box3f box;
+    float lo, hi;         // the values beneath
+    std::uint32_t first;  // leaf: the first of its cells in order_; inner: its left child (right follows)
+    std::uint32_t count;  // cells in a leaf, 0 for an inner node
+  };
+
+  std::uint64_t vertex(std::uint32_t cell, int k) const { return d_.index[d_.cell_index[cell] + static_cast<std::uint64_t>(k)]; }
+  int vertices(std::uint32_t cell) const { return cell_vertex_count(d_.cell_type[cell]); }
+
+  Box3f cell_box(std::uint32_t cell) const {
+    Box3f box;
+    for (int k = 0; k < vertices(cell); ++k) box.extend(d_.positions[vertex(cell, k)]);
+    return box;
+  }
+  std::array<float, 2> cell_range(std::uint32_t cell) const {
+    if (!d_.cell_values.empty()) return {d_.cell_values[cell], d_.cell_values[cell]};
+    std::array<float, 2> r{std::numeric_limits<float>::infinity(), -std::numeric_limits<float>::infinity()};
+    for (int k = 0; k < vertices(cell); ++k) {
+      const float v = d_.vertex_values[vertex(cell, k)];
+      r[0] = std::min(r[0], v), r[1] = std::max(r[1], v);
+    }
+    return r;
+  }
+  float interpolate(std::uint32_t cell, const std::array<float, 8>& weights) const {
+    if (!d_.cell_values.empty()) return d_.cell_values[cell];
+    float v = 0.f;
+    for (int k = 0; k < vertices(cell); ++k) v += weights[static_cast<std::size_t>(k)] * d_.vertex_values[vertex(cell, k)];
+    return v;
+  }
+
+  // ---- Shape functions: parametric (r, s, t) to the weights of the vertices (VTK's) ----
+
+  static std::array<float, 8> shape(CellType type, float r, float s, float t) {
+    switch (type) {
+      case CellType::hexahedron:
+        return {(1 - r) * (1 - s) * (1 - t), r * (1 - s) * (1 - t), r * s * (1 - t), (1 - r) * s * (1 - t),
+                (1 - r) * (1 - s) * t,       r * (1 - s) * t,       r * s * t,       (1 - r) * s * t};
+      case CellType::wedge:
+        return {(1 - r - s) * (1 - t), r * (1 - t), s * (1 - t), (1 - r - s) * t, r * t, s * t, 0.f, 0.f};
+      case CellType::pyramid:
+        return {(1 - r) * (1 - s) * (1 - t), r * (1 - s) * (1 - t), r * s * (1 - t), (1 - r) * s * (1 - t), t, 0.f, 0.f,
+                0.f};
+      case CellType::tetrahedron: return {1 - r - s - t, r, s, t, 0.f, 0.f, 0.f, 0.f};
+    }
+    return {};
+  }
+  /// The derivatives of shape() by r, s and t.
+  static std::array<std::array<float, 8>, 3> shape_derivatives(CellType type, float r, float s, float t) {
+    switch (type) {
+      case CellType::hexahedron:
+        return {{{-(1 - s) * (1 - t), (1 - s) * (1 - t), s * (1 - t), -s * (1 - t), -(1 - s) * t, (1 - s) * t, s * t, -s * t},
+                 {-(1 - r) * (1 - t), -r * (1 - t), r * (1 - t), (1 - r) * (1 - t), -(1 - r) * t, -r * t, r * t, (1 - r) * t},
+                 {-(1 - r) * (1 - s), -r * (1 - s), -r * s, -(1 - r) * s, (1 - r) * (1 - s), r * (1 - s), r * s, (1 - r) * s}}};
+      case CellType::wedge:
+        return {{{-(1 - t), 1 - t, 0.f, -t, t, 0.f, 0.f, 0.f},
+                 {-(1 - t), 0.f, 1 - t, -t, 0.f, t, 0.f, 0.f},
+                 {-(1 - r - s), -r, -s, 1 - r - s, r, s, 0.f, 0.f}}};
+      case CellType::pyramid:
+        return {{{-(1 - s) * (1 - t), (1 - s) * (1 - t), s * (1 - t), -s * (1 - t), 0.f, 0.f, 0.f, 0.f},
+                 {-(1 - r) * (1 - t), -r * (1 - t), r * (1 - t), (1 - r) * (1 - t), 0.f, 0.f, 0.f, 0.f},
+                 {-(1 - r) * (1 - s), -r * (1 - s), -r * s, -(1 - r) * s, 1.f, 0.f, 0.f, 0.f}}};
+      case CellType::tetrahedron:
+        return {{{-1.f, 1.f, 0.f, 0.f, 0.f, 0.f, 0.f, 0.f}, {-1.f, 0.f, 1.f, 0.f, 0.f, 0.f, 0.f, 0.f},
+                 {-1.f, 0.f, 0.f, 1.f, 0.f, 0.f, 0.f, 0.f}}};
+    }
+    return {};
+  }
+  static bool inside_parameters(CellType type, float r, float s, float t) {
+    constexpr float e = 1e-4f;
+    const bool unit_t = t >= -e && t <= 1 + e;
+    switch (type) {
+      case CellType::hexahedron:
+      case CellType::pyramid: return r >= -e && r <= 1 + e && s >= -e && s <= 1 + e && unit_t;
+      case CellType::wedge: return r >= -e && s >= -e && r + s <= 1 + e && unit_t;
+      case CellType::tetrahedron: return r >= -e && s >= -e && t >= -e && r + s + t <= 1 + e;
+    }
+    return false;
+  }
+
+  /// The map's Jacobian (columns: d/dr, d/ds, d/dt) at (r, s, t) and the mapped point.
+  void map(std::uint32_t cell, float r, float s, float t, Vec3f& x, Vec3f jacobian[3]) const {
+    const auto type = static_cast<CellType>(d_.cell_type[cell]);
+    const auto n = shape(type, r, s, t);
+    const auto dn = shape_derivatives(type, r, s, t);
+    x = {0.f, 0.f, 0.f};
+    jacobian[0] = jacobian[1] = jacobian[2] = Vec3f{0.f, 0.f, 0.f};
+    for (int k = 0; k < vertices(cell); ++k) {
+      const Vec3f& v = d_.positions[vertex(cell, k)];
+      x = x + v * n[static_cast<std::size_t>(k)];
+      for (int a = 0; a < 3; ++a) jacobian[a] = jacobian[a] + v * dn[static_cast<std::size_t>(a)][static_cast<std::size_t>(k)];
+    }
+  }
+
+  /// The parametric coordinates of p in `cell` (Newton's method from the cell's centre;
+  /// one step for a tetrahedron, whose map is affine); false where p lies outside it.
+  bool parameters(std::uint32_t cell, const Vec3f& p, float& r, float& s, float& t) const {
+    const auto type = static_cast<CellType>(d_.cell_type[cell]);
+    r = s = t = type == CellType::tetrahedron ? 0.25f : type == CellType::wedge ? 1.f / 3.f : 0.5f;
+    if (type == CellType::wedge) t = 0.5f;
+    if (type == CellType::pyramid) t = 0.2f;
+    const int iterations = type == CellType::tetrahedron ? 1 : 16;
+    for (int i = 0; i < iterations; ++i) {
+      Vec3f x, j[3];
+      map(cell, r, s, t, x, j);
+      const Vec3f residual = p - x;
+      const float det = dot(j[0], cross(j[1], j[2]));
+      if (!(std::abs(det) > 0.f)) return false;
+      // Cramer's rule for j · delta = residual.
+      const float dr = dot(residual, cross(j[1], j[2])) / det;
+      const float ds = dot(j[0], cross(residual, j[2])) / det;
+      const float dt = dot(j[0], cross(j[1], residual)) / det;
+      r += dr, s += ds, t += dt;
+      if (std::abs(dr) + std::abs(ds) + std::abs(dt) < 1e-6f) break;
+      if (std::abs(r) + std::abs(s) + std::abs(t) > 100.f) return false;  // diverging: far outside
+    }
+    return inside_parameters(type, r, s, t);
+  }
+
+  /// Calls found(cell, weights) for the first cell that holds p, if any.
+  template <class Found>
+  void locate(const Vec3f& p, Found&& found) const {
+    std::uint32_t stack[64];
+    int top = 0;
+    stack[top++] = 0;
+    while (top > 0) {
+      const Node& node = nodes_[stack[--top]];
+      const Box3f& b = node.box;
+      if (!(p.x >= b.lower.x && p.x <= b.upper.x && p.y >= b.lower.y && p.y <= b.upper.y && p.z >= b.lower.z &&
+            p.z <= b.upper.z))
+        continue;
+      if (node.count == 0) {
+        stack[top++] = node.first + 1;
+        stack[top++] = node.first;
+        continue;
+      }
+      for (std::uint32_t k = 0; k < node.count; ++k) {
+        const std::uint32_t cell = order_[node.first + k];
+        float r, s, t;
+        if (!parameters(cell, p, r, s, t)) continue;
+        found(cell, shape(static_cast<CellType>(d_.cell_type[cell]), r, s, t));
+        return;
+      }
+    }
+  }
+
+  void validate() {
+    const auto fail = [](const std::string& what) { throw Error("unstructured volume: " + what); };
+    if (d_.positions.empty()) fail("'vertex.position' is missing or empty");
+    if (d_.cell_index.empty()) fail("'cell.index' is missing or empty");
+    if (d_.index.empty()) fail("'index' is missing or empty");
+    if (d_.cell_type.size() != d_.cell_index.size())
+      fail("'cell.type' has " + std::to_string(d_.cell_type.size()) + " entries but 'cell.index' has " +
+           std::to_string(d_.cell_index.size()) + " cells");
+    if (d_.vertex_values.empty() == d_.cell_values.empty())
+      fail("exactly one of 'vertex.data' and 'cell.data' must be given");
+    if (!d_.vertex_values.empty() && d_.vertex_values.size() != d_.positions.size())
+      fail("'vertex.data' has " + std::to_string(d_.vertex_values.size()) + " values but 'vertex.position' has " +
+           std::to_string(d_.positions.size()) + " vertices");
+    if (!d_.cell_values.empty() && d_.cell_values.size() != d_.cell_index.size())
+      fail("'cell.data' has " + std::to_string(d_.cell_values.size()) + " values but there are " +
+           std::to_string(d_.cell_index.size()) + " cells");
+    if (d_.cell_index.size() > std::numeric_limits<std::uint32_t>::max())
+      fail("more than 2^32 - 1 cells");
+    for (std::size_t v = 0; v < d_.positions.size(); ++v) {
+      const Vec3f& p = d_.positions[v];
+      if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
+        fail("'vertex.position' " + std::to_string(v) + " is not finite");
+    }
+    for (const auto* values : {&d_.vertex_values, &d_.cell_values})
+      for (std::size_t i = 0; i < values->size(); ++i)
+        if (!std::isfinite((*values)[i]))
+          fail(std::string(values == &d_.vertex_values ? "'vertex.data' " : "'cell.data' ") + std::to_string(i) +
+               " is not finite");
+    for (std::uint32_t c = 0; c < cell_count(); ++c) {
+      const std::string cell = "cell " + std::to_string(c);
+      const int n = vertices(c);
+      if (n == 0)
+        fail(cell + " has type " + std::to_string(d_.cell_type[c]) +
+             ", which is none of tetrahedron (10), hexahedron (12), wedge (13), pyramid (14)");
+      if (d_.cell_index[c] > d_.index.size() || d_.index.size() - d_.cell_index[c] < static_cast<std::uint64_t>(n))
+        fail(cell + " starts at 'index' entry " + std::to_string(d_.cell_index[c]) + " and needs " + std::to_string(n) +
+             " vertices, but 'index' has " + std::to_string(d_.index.size()) + " entries");
+      for (int k = 0; k < n; ++k)
+        if (vertex(c, k) >= d_.positions.size())
+          fail(cell + " refers to vertex " + std::to_string(vertex(c, k)) + " but 'vertex.position' has " +
+               std::to_string(d_.positions.size()));
+      // The map must keep its orientation over the cell: its Jacobian's determinant has
+      // one sign at every corner (a tetrahedron's is constant), and is not zero.
+      const auto type = static_cast<CellType>(d_.cell_type[c]);
+      const float corners[8][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
+      const float wedge_corners[6][3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 1}, {0, 1, 1}};
+      const int samples = type == CellType::hexahedron ? 8 : type == CellType::wedge ? 6 : type == CellType::pyramid ? 4 : 1;
+      const Box3f box = cell_box(c);
+      const Vec3f extent = box.upper - box.lower;
+      const float scale = std::max({extent.x, extent.y, extent.z});
+      int positive = 0, negative = 0;
+      for (int k = 0; k < samples; ++k) {
+        const float* q = type == CellType::wedge ? wedge_corners[k] : corners[k];
+        // A pyramid's apex is singular: its base corners, a little above the base.
+        const float t = type == CellType::pyramid ? 0.01f : q[2];
+        Vec3f x, j[3];
+        map(c, q[0], q[1], t, x, j);
+        const float det = dot(j[0], cross(j[1], j[2]));
+        if (det > 1e-9f * scale * scale * scale) ++positive;
+        else if (det < -1e-9f * scale * scale * scale) ++negative;
+      }
+      if (positive + negative < samples || (positive > 0 && negative > 0))
+        fail(cell + " is degenerate or inverted (its vertices do not span a volume in VTK's order)");
+    }
+  }
+
+  void build_hierarchy() {
+    const std::uint32_t count = static_cast<std::uint32_t>(cell_count());
+    order_.resize(count);
+    std::iota(order_.begin(), order_.end(), 0u);
+    std::vector<Box3f> boxes(count);
+    std::vector<Vec3f> centres(count);
+    std::vector<float> sides(count);
+    for (std::uint32_t c = 0; c < count; ++c) {
+      boxes[c] = cell_box(c);
+      centres[c] = (boxes[c].lower + boxes[c].upper) * 0.5f;
+      const Vec3f e = boxes[c].upper - boxes[c].lower;
+      sides[c] = (e.x + e.y + e.z) / 3.f;
+    }
+    std::nth_element(sides.begin(), sides.begin() + count / 2, sides.end());
+    const float typical = sides[count / 2] > 0.f ? sides[count / 2] : 1.f;
+    cell_size_ = {typical, typical, typical};
+    nodes_.reserve(2 * static_cast<std::size_t>(count));
+    nodes_.push_back({});
+    build_node(0, 0, count, boxes, centres, 0);
+  }
+
+  void build_node(std::uint32_t node, std::uint32_t first, std::uint32_t last, const std::vector<Box3f>& boxes,
+                  const std::vector<Vec3f>& centres, int depth) {
+    Box3f box, centre_box;
+    float lo = std::numeric_limits<float>::infinity(), hi = -lo;
+    for (std::uint32_t i = first; i < last; ++i) {
+      box.extend(boxes[order_[i]]);
+      centre_box.extend(centres[order_[i]]);
+      const auto [a, b] = cell_range(order_[i]);
+      lo = std::min(lo, a), hi = std::max(hi, b);
+    }
+    constexpr std::uint32_t leaf_cells = 4;
+    // The traversal stack holds 64 entries: deeper than 60 levels the rest is one leaf.
+    if (last - first <= leaf_cells || depth >= 60) {
+      nodes_[node] = {box, lo, hi, first, last - first};
+      return;
+    }
+    const Vec3f extent = centre_box.upper - centre_box.lower;
+    const int axis = extent.x >= extent.y && extent.x >= extent.z ? 0 : extent.y >= extent.z ? 1 : 2;
+    const std::uint32_t middle = first + (last - first) / 2;
+    std::nth_element(order_.begin() + first, order_.begin() + middle, order_.begin() + last,
+                     [&](std::uint32_t a, std::uint32_t b) { return centres[a][axis] < centres[b][axis]; });
+    const auto left = static_cast<std::uint32_t>(nodes_.size());
+    nodes_[node] = {box, lo, hi, left, 0};
+    nodes_.push_back({});
+    nodes_.push_back({});
+    build_node(left, first, middle, boxes, centres, depth + 1);
+    build_node(left + 1, middle, last, boxes, centres, depth + 1);
+  }
+
+  UnstructuredData d_;
+  std::vector<Node> nodes_;
+  std::vector<std::uint32_t> order_;  ///< cell indices, grouped by leaf
+  Vec3f cell_size_{1.f, 1.f, 1.f};
+};
+
+}  // namespace sciray
