@@ -3,7 +3,8 @@
 include(CMakeFindDependencyMacro)
 find_dependency(embree 3)
 find_dependency(TBB)
-find_dependency(ZLIB)  # gzip-encoded NRRD volumes (io/volume.hpp)
+find_dependency(ZLIB)  # gzip-encoded NRRD volumes (io/volume.hpp), compressed VTK arrays (io/vtk.hpp)
+find_dependency(pugixml)  # VTK's XML formats (io/vtk.hpp)
 
 if(NOT TARGET sciray::xsimd)
   # Header-only; Debian's xsimd CMake target links a non-existent "xtl" library, so use

@@ -218,7 +218,7 @@ sciray::SphereIntersector parse_intersector(const std::string& name) {
 
 bool is_volume_file(const std::string& path) {
   const auto ext = std::filesystem::path(path).extension();
-  return ext == ".raw" || ext == ".nrrd" || ext == ".nhdr";
+  return ext == ".raw" || ext == ".nrrd" || ext == ".nhdr" || ext == ".vtu";
 }
 
 int render(const RenderOptions& opt) {
@@ -261,7 +261,12 @@ int render(const RenderOptions& opt) {
     sciray::accel::Device device;
     sciray::shim::EngineWorld world(device);
     std::optional<sciray_tool::VolumeInfo> volume;
-    if (is_volume_file(opt.mesh)) scene.volume = sciray::io::read_volume(opt.mesh);
+    const bool unstructured = std::filesystem::path(opt.mesh).extension() == ".vtu";
+    if (!opt.volume.field.empty() && !unstructured) throw sciray::Error("--field: needs a .vtu file, whose array it picks");
+    if (unstructured)
+      volume = sciray_tool::add_unstructured(world, opt.mesh, opt.volume);
+    else if (is_volume_file(opt.mesh))
+      scene.volume = sciray::io::read_volume(opt.mesh);
     if (scene.volume) {
       sciray_tool::VolumeOptions volume_options = opt.volume;
       for (const auto& slice : opt.slices) {
@@ -450,7 +455,7 @@ int main(int argc, char** argv) {
   RenderOptions opt;
   auto* render_cmd = app.add_subcommand("render", "Render a mesh (or the built-in scene) to an image");
   render_cmd->add_option("mesh", opt.mesh,
-                         "PLY mesh, PDB molecule, raw/NRRD volume, or builtin:NAME (torus_1M, cornell_box, spheres_1M, streamlines, bunny, "
+                         "PLY mesh, PDB molecule, raw/NRRD volume, VTK unstructured grid (.vtu), or builtin:NAME (torus_1M, cornell_box, spheres_1M, streamlines, bunny, "
                          "...); "
                          "without it, the default scene");
   render_cmd->add_option("--camera", opt.camera, "camera JSON {position, look_at, up, fovy}");
@@ -466,6 +471,8 @@ int main(int argc, char** argv) {
                        "writes the outputs, the others render tiles");
   render_cmd->add_option("--style", opt.style, "molecules: ball-and-stick or space-filling");
   render_cmd->add_option("--tf", opt.volume.tf, "volumes: transfer function JSON {colors, opacities, range}");
+  render_cmd->add_option("--field", opt.volume.field,
+                         ".vtu: the point or cell array to render (vectors by magnitude; default: its Scalars array)");
   render_cmd->add_option("--layout", opt.volume.layout, "volumes: linear (in place) or bricked");
   render_cmd->add_option("--density", opt.volume.density, "volumes: densityScale (default: from the size)");
   render_cmd->add_option("--anisotropy", opt.volume.anisotropy,

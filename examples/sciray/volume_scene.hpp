@@ -1,7 +1,8 @@
 #pragma once
 // The sciray tool's volumes: a raw or NRRD file becomes a StructuredRegular of its voxel
 // type in the layout asked for, rendered through a transfer function from a JSON file (or
-// a default one spread over the data's value range), as isosurfaces, or as slices.
+// a default one spread over the data's value range), as isosurfaces, or as slices; a VTK
+// unstructured grid (.vtu) becomes an Unstructured volume of the array `--field` names.
 #include <array>
 #include <cstdint>
 #include <fstream>
@@ -12,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "sciray/io/volume.hpp"
+#include "sciray/io/vtk.hpp"
 #include "sciray/shim/engine.hpp"
 #include "sciray/testing/scenes.hpp"
 
@@ -25,6 +27,7 @@ struct VolumeOptions {
   float gradient_shading_scale = 0.f;  ///< scivis: how much the gradient-lit colour replaces the sample's
   std::vector<float> isovalues;   ///< isosurfaces instead of volume rendering
   std::vector<std::array<float, 4>> slices;  ///< planes a,b,c,d coloured by the volume, instead
+  std::string field;  ///< .vtu: the point or cell array to render (empty: its Scalars, else the first)
 };
 
 /// {"colors": [[r, g, b], ...], "opacities": [a, ...], "range": [lo, hi]}; "range" may be
@@ -73,9 +76,34 @@ inline sciray::TransferFunction default_transfer_function(std::array<float, 2> r
 }
 
 struct VolumeInfo {
-  sciray::VolumeDims dims;
+  sciray::VolumeDims dims;  ///< a grid's voxels; an unstructured volume's cells, 1, 1
   std::string type;
 };
+
+/// A volumetric model of `volume` through the transfer function asked for, and the
+/// default density: the densest value absorbs 1 − e⁻⁴ over the volume's diagonal.
+template <class Volume>
+sciray::VolumetricModel<Volume> volumetric_model(std::shared_ptr<const Volume> volume, std::array<float, 2> range,
+                                                 const VolumeOptions& opt) {
+  sciray::TransferFunction tf = opt.tf.empty() ? default_transfer_function(range) : read_transfer_function(opt.tf, range);
+  const float density = opt.density > 0.f ? opt.density : 4.f / length(volume->bounds().size());
+  sciray::VolumetricModel<Volume> model(volume, std::move(tf), density, opt.anisotropy);
+  model.set_gradient_shading_scale(opt.gradient_shading_scale);
+  return model;
+}
+
+/// Adds the unstructured grid of .vtu file `path` to `world`, its array `opt.field`
+/// volume-rendered.
+inline VolumeInfo add_unstructured(sciray::shim::EngineWorld& world, const std::string& path, const VolumeOptions& opt) {
+  using namespace sciray;
+  if (!opt.isovalues.empty()) throw Error("--iso: isosurfaces of unstructured volumes are not supported yet");
+  if (!opt.slices.empty()) throw Error("--slice: slices of unstructured volumes are not supported yet");
+  if (opt.layout != "linear") throw Error("--layout: applies to structured volumes only");
+  auto volume = std::make_shared<const Unstructured>(io::unstructured_volume(io::read_vtu(path), opt.field, path));
+  world.add_volume(volumetric_model(volume, volume->value_range(), opt));
+  return {{static_cast<std::int64_t>(volume->cell_count()), 1, 1},
+          "unstructured (" + std::to_string(volume->folded_cells()) + " folded cells)"};
+}
 
 /// Adds a loaded (or generated) volume to `world`: its isosurfaces if isovalues are given,
 /// its slices if planes are, else the volume rendered through its transfer function.
@@ -93,8 +121,8 @@ inline VolumeInfo add_volume(sciray::shim::EngineWorld& world, const sciray::io:
         return;
       }
       const std::array<float, 2> range = file.range ? *file.range : volume->value_range();
-      TransferFunction tf = opt.tf.empty() ? default_transfer_function(range) : read_transfer_function(opt.tf, range);
       if (!opt.slices.empty()) {
+        TransferFunction tf = opt.tf.empty() ? default_transfer_function(range) : read_transfer_function(opt.tf, range);
         // Each slice is cut to the volume's box.
         std::vector<Planes::Plane> planes;
         for (const auto& c : opt.slices) planes.push_back({c[0], c[1], c[2], c[3]});
@@ -102,11 +130,7 @@ inline VolumeInfo add_volume(sciray::shim::EngineWorld& world, const sciray::io:
         world.add(VolumeSlice(std::move(planes), std::move(bounds), volume, std::move(tf)));
         return;
       }
-      // By default the densest value absorbs 1 − e⁻⁴ over the volume's diagonal.
-      const float density = opt.density > 0.f ? opt.density : 4.f / length(volume->bounds().size());
-      VolumetricModel model(volume, std::move(tf), density, opt.anisotropy);
-      model.set_gradient_shading_scale(opt.gradient_shading_scale);
-      world.add_volume(std::move(model));
+      world.add_volume(volumetric_model(volume, range, opt));
     };
     if (opt.layout == "bricked")
       add_model(std::make_shared<const StructuredRegular<Voxel, BrickedLayout>>(

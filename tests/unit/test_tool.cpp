@@ -382,3 +382,28 @@ TEST_CASE("sciray render: an error target stops accumulation; filters, tonemappi
   CHECK(negative.exit_code == 1);
   CHECK_THAT(negative.output, Catch::Contains("apertureRadius"));
 }
+
+TEST_CASE("sciray render: a VTK unstructured grid, its array picked with --field", "[tool][vtk]") {
+  const auto out = scratch("can.png");
+  const Run run = run_tool("render " SCIRAY_DATA_DIR "/unstructured/can.vtu --field EQPS --size 64x48 --json -o " +
+                           out.string());
+  INFO(run.output);
+  REQUIRE(run.exit_code == 0);
+  const auto report = nlohmann::json::parse(run.output);
+  CHECK(report["volumes"] == 1);
+  CHECK(report["volume"]["dims"][0] == 4800);
+  CHECK(report["volume"]["type"] == "unstructured (51 folded cells)");
+  // The can is seen: some pixels are not the background.
+  const sciray::io::Image image = sciray::io::read_image(out.string());
+  int covered = 0;
+  for (int y = 0; y < image.height; ++y)
+    for (int x = 0; x < image.width; ++x) covered += std::abs(image.at(x, y, 1) - image.at(0, 0, 1)) > 0.01f;
+  CHECK(covered > 50);
+  const Run missing = run_tool("render " SCIRAY_DATA_DIR "/unstructured/can.vtu --field pressure -o " + out.string());
+  CHECK(missing.exit_code != 0);
+  CHECK_THAT(missing.output, Catch::Contains("can.vtu: has no array 'pressure' (its arrays: 'DISPL', 'VEL', 'ACCL', "
+                                             "'GlobalNodeId', 'PedigreeNodeId', 'EQPS')"));
+  const Run iso = run_tool("render " SCIRAY_DATA_DIR "/unstructured/can.vtu --iso 5 -o " + out.string());
+  CHECK(iso.exit_code != 0);
+  CHECK_THAT(iso.output, Catch::Contains("--iso: isosurfaces of unstructured volumes are not supported yet"));
+}

@@ -150,12 +150,15 @@ TEST_CASE("unstructured: bad cells are named", "[volume][unstructured][errors]")
                        "24 entries");
   d = good;
   d.positions[3] = d.positions[0];  // cells 1 and 2 collapse
-  CHECK(error_of(d) == "unstructured volume: cell 1 is degenerate or inverted (its vertices do not span a volume in "
-                       "VTK's order)");
+  CHECK(error_of(d) == "unstructured volume: cell 1 is degenerate (its vertices span no volume)");
   d = cube_of(CellType::hexahedron, linear);
-  std::swap(d.index[6], d.index[7]);  // a bow tie: the top face folds over itself
-  CHECK(error_of(d) == "unstructured volume: cell 0 is degenerate or inverted (its vertices do not span a volume in "
-                       "VTK's order)");
+  for (std::uint64_t& i : d.index) i = 0;
+  CHECK(error_of(d) == "unstructured volume: cell 0 is degenerate (its vertices span no volume)");
+  // A bow tie (the top face folds over itself, as crushed elements do) is kept, and counted.
+  d = cube_of(CellType::hexahedron, linear);
+  std::swap(d.index[6], d.index[7]);
+  CHECK(Unstructured(d).folded_cells() == 1);
+  CHECK(Unstructured(cube_of(CellType::hexahedron, linear)).folded_cells() == 0);
   d = good;
   d.vertex_values[4] = std::nanf("");
   CHECK(error_of(d) == "unstructured volume: 'vertex.data' 4 is not finite");

@@ -9,7 +9,8 @@
 // barycentric coordinates in a tetrahedron, and in the other cells the inverse of their
 // isoparametric map (trilinear for hexahedra, linear × bilinear for wedges and pyramids),
 // found by Newton's method, which is exact for cells whose faces are not planar too.
-// Outside every cell a sample is `background` (NaN by default: transparent).
+// Outside every cell a sample is `background` (NaN by default: transparent). Cells that
+// span no volume are refused; cells whose map folds (distorted elements) are kept.
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -66,6 +67,9 @@ public:
            (d_.index.size() + d_.cell_index.size()) * sizeof(std::uint64_t) + d_.cell_type.size() +
            nodes_.size() * sizeof(Node) + order_.size() * sizeof(std::uint32_t);
   }
+  /// How many cells fold over themselves (their map's Jacobian changes sign): they are
+  /// sampled where Newton's method finds a preimage, one of several inside the fold.
+  std::size_t folded_cells() const { return folded_; }
   /// The smallest and largest value inside the cells.
   std::array<float, 2> value_range() const { return {nodes_.front().lo, nodes_.front().hi}; }
 
@@ -322,28 +326,35 @@ private:
         if (vertex(c, k) >= d_.positions.size())
           fail(cell + " refers to vertex " + std::to_string(vertex(c, k)) + " but 'vertex.position' has " +
                std::to_string(d_.positions.size()));
-      // The map must keep its orientation over the cell: its Jacobian's determinant has
-      // one sign at every corner (a tetrahedron's is constant), and is not zero.
+      // The cell must span a volume: its map's Jacobian at the centre is not 0. A map
+      // whose Jacobian changes sign over the cell folds it (distorted finite elements, as
+      // in a crushed can's output): such cells are kept, and counted (folded_cells()).
       const auto type = static_cast<CellType>(d_.cell_type[c]);
-      const float corners[8][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
-      const float wedge_corners[6][3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 1}, {0, 1, 1}};
-      const int samples = type == CellType::hexahedron ? 8 : type == CellType::wedge ? 6 : type == CellType::pyramid ? 4 : 1;
       const Box3f box = cell_box(c);
       const Vec3f extent = box.upper - box.lower;
       const float scale = std::max({extent.x, extent.y, extent.z});
-      int positive = 0, negative = 0;
+      const float tiny = 1e-9f * scale * scale * scale;
+      const auto determinant = [&](float r, float s, float t) {
+        Vec3f x, j[3];
+        map(c, r, s, t, x, j);
+        return dot(j[0], cross(j[1], j[2]));
+      };
+      const float centre = type == CellType::tetrahedron ? determinant(0.25f, 0.25f, 0.25f)
+                           : type == CellType::wedge      ? determinant(1.f / 3.f, 1.f / 3.f, 0.5f)
+                           : type == CellType::pyramid    ? determinant(0.5f, 0.5f, 0.2f)
+                                                          : determinant(0.5f, 0.5f, 0.5f);
+      if (!(std::abs(centre) > tiny)) fail(cell + " is degenerate (its vertices span no volume)");
+      const float corners[8][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
+      const float wedge_corners[6][3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 1}, {0, 1, 1}};
+      // A tetrahedron's Jacobian is constant; a pyramid's vanishes at its apex: its base corners, a little above.
+      const int samples = type == CellType::hexahedron ? 8 : type == CellType::wedge ? 6 : type == CellType::pyramid ? 4 : 0;
       for (int k = 0; k < samples; ++k) {
         const float* q = type == CellType::wedge ? wedge_corners[k] : corners[k];
-        // A pyramid's apex is singular: its base corners, a little above the base.
-        const float t = type == CellType::pyramid ? 0.01f : q[2];
-        Vec3f x, j[3];
-        map(c, q[0], q[1], t, x, j);
-        const float det = dot(j[0], cross(j[1], j[2]));
-        if (det > 1e-9f * scale * scale * scale) ++positive;
-        else if (det < -1e-9f * scale * scale * scale) ++negative;
+        if (determinant(q[0], q[1], type == CellType::pyramid ? 0.01f : q[2]) * centre < 0.f) {
+          ++folded_;
+          break;
+        }
       }
-      if (positive + negative < samples || (positive > 0 && negative > 0))
-        fail(cell + " is degenerate or inverted (its vertices do not span a volume in VTK's order)");
     }
   }
 
@@ -401,6 +412,7 @@ private:
   std::vector<Node> nodes_;
   std::vector<std::uint32_t> order_;  ///< cell indices, grouped by leaf
   Vec3f cell_size_{1.f, 1.f, 1.f};
+  std::size_t folded_ = 0;
 };
 
 }  // namespace sciray
