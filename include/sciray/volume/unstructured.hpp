@@ -120,6 +120,46 @@ public:
     }
   }
 
+  /// sample() along the rays of one packet: each lane first tries the cell of its last
+  /// sample, where a ray's next sample usually is, before searching the hierarchy.
+  template <class Arch>
+  class Sampler {
+  public:
+    explicit Sampler(const Unstructured& volume) : volume_(&volume) { last_.fill(no_cell); }
+    simd::Float<Arch> operator()(const Vec3<simd::Float<Arch>>& p) {
+      constexpr int W = simd::width<Arch>;
+      alignas(64) float out[W];
+      for (int i = 0; i < W; ++i) {
+        const Vec3f q{simd::lane(p.x, i), simd::lane(p.y, i), simd::lane(p.z, i)};
+        std::uint32_t& last = last_[static_cast<std::size_t>(i)];
+        float r, s, t;
+        if (last != no_cell && volume_->parameters(last, q, r, s, t)) {
+          out[i] = volume_->interpolate(last, shape(static_cast<CellType>(volume_->d_.cell_type[last]), r, s, t));
+          continue;
+        }
+        out[i] = volume_->d_.background;
+        last = no_cell;
+        volume_->locate(q, [&](std::uint32_t cell, const std::array<float, 8>& weights) {
+          out[i] = volume_->interpolate(cell, weights);
+          last = cell;
+        });
+      }
+      if constexpr (std::is_same_v<Arch, simd::scalar>)
+        return out[0];
+      else
+        return simd::load<Arch>(out);
+    }
+
+  private:
+    static constexpr std::uint32_t no_cell = 0xffffffffu;
+    const Unstructured* volume_;
+    std::array<std::uint32_t, simd::width<Arch>> last_;
+  };
+  template <class Arch>
+  Sampler<Arch> sampler() const {
+    return Sampler<Arch>(*this);
+  }
+
   /// The gradient by central differences a tenth of a typical cell apart; components
   /// where a neighbour lies outside every cell are 0.
   template <class Arch>
@@ -233,15 +273,24 @@ private:
     }
   }
 
-  /// The parametric coordinates of p in `cell` (Newton's method from the cell's centre;
-  /// one step for a tetrahedron, whose map is affine); false where p lies outside it.
+  /// The parametric coordinates of p in `cell` (a tetrahedron's affine map inverted
+  /// directly, the others' by Newton's method from the cell's centre); false where p
+  /// lies outside it.
   bool parameters(std::uint32_t cell, const Vec3f& p, float& r, float& s, float& t) const {
     const auto type = static_cast<CellType>(d_.cell_type[cell]);
-    r = s = t = type == CellType::tetrahedron ? 0.25f : type == CellType::wedge ? 1.f / 3.f : 0.5f;
-    if (type == CellType::wedge) t = 0.5f;
-    if (type == CellType::pyramid) t = 0.2f;
-    const int iterations = type == CellType::tetrahedron ? 1 : 16;
-    for (int i = 0; i < iterations; ++i) {
+    if (type == CellType::tetrahedron) {
+      // The affine map's inverse by Cramer's rule, straight from the edges.
+      const Vec3f& v0 = d_.positions[vertex(cell, 0)];
+      const Vec3f e1 = d_.positions[vertex(cell, 1)] - v0, e2 = d_.positions[vertex(cell, 2)] - v0,
+                  e3 = d_.positions[vertex(cell, 3)] - v0, q = p - v0;
+      const Vec3f n23 = cross(e2, e3);
+      const float det = dot(e1, n23);
+      r = dot(q, n23) / det, s = dot(e1, cross(q, e3)) / det, t = dot(e1, cross(e2, q)) / det;
+      return inside_parameters(type, r, s, t);
+    }
+    r = s = type == CellType::wedge ? 1.f / 3.f : 0.5f;
+    t = type == CellType::pyramid ? 0.2f : 0.5f;
+    for (int i = 0; i < 16; ++i) {
       Vec3f x, j[3];
       map(cell, r, s, t, x, j);
       const Vec3f residual = p - x;

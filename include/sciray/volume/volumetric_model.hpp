@@ -147,6 +147,7 @@ public:
                                const VolumeIntegration& how, const Shade& shade = nullptr) const {
     using F = simd::Float<Arch>;
     const Ray<F>& ray = placed.ray;
+    auto sample = sampler<Arch>();
     VolumeSample<Arch> out{Vec3<F>(Vec3f{0.f, 0.f, 0.f}), F(0.f)};
     const Vec3<F> inv{F(1.f) / ray.dir.x, F(1.f) / ray.dir.y, F(1.f) / ray.dir.z};
     const auto [enter, box_exit] = span<Arch>(ray, inv);
@@ -220,14 +221,14 @@ public:
           // The value at the step's start is the previous step's end where there was one.
           F start = previous_end;
           if (simd::any(sampled & !have_previous))
-            start = simd::select(have_previous, previous_end, volume_->template sample<Arch>(ray.org + ray.dir * t));
-          const F end = volume_->template sample<Arch>(ray.org + ray.dir * step_end);
+            start = simd::select(have_previous, previous_end, sample(ray.org + ray.dir * t));
+          const F end = sample(ray.org + ray.dir * step_end);
           tf_.template segment<Arch>(start, end, sigma, color);
           const simd::Mask<Arch> inside_cells = (start == start) & (end == end);  // NaN: outside them
           sigma = simd::select(inside_cells, sigma, F(0.f));
           previous_end = end;
         } else {
-          const F value = volume_->template sample<Arch>(p);
+          const F value = sample(p);
           sigma = tf_.template opacity<Arch>(value);
           color = tf_.template color<Arch>(value);
         }
@@ -272,8 +273,9 @@ public:
     using M = simd::Mask<Arch>;
     const Ray<F>& ray = placed.ray;
     Collision<Arch> out{M(false), F(std::numeric_limits<float>::infinity()), Vec3<F>(Vec3f{0.f, 0.f, 0.f})};
+    auto sample = sampler<Arch>();
     track<Arch>(placed, t_end, uniform, [&](const M& lanes, const F& t, const F& majorant) {
-      const F value = volume_->template sample<Arch>(ray.org + ray.dir * t);
+      const F value = sample(ray.org + ray.dir * t);
       const M real = lanes & (uniform() * majorant < extinction<Arch>(value, placed, t, lanes, clipping));
       if (simd::any(real)) {
         const Vec3<F> c = tf_.template color<Arch>(value);
@@ -304,8 +306,9 @@ public:
     const Ray<F>& ray = placed.ray;
     constexpr float roulette_below = 0.1f;
     F estimate(1.f);
+    auto sample = sampler<Arch>();
     track<Arch>(placed, t_end, uniform, [&](const M& lanes, const F& t, const F& majorant) {
-      const F value = volume_->template sample<Arch>(ray.org + ray.dir * t);
+      const F value = sample(ray.org + ray.dir * t);
       const F sigma = extinction<Arch>(value, placed, t, lanes, clipping);
       estimate = simd::select(lanes, estimate * simd::max(F(1.f) - sigma / majorant, F(0.f)), estimate);
       // Small estimates survive with probability 1/2 at twice their value.
@@ -320,6 +323,17 @@ public:
   }
 
 private:
+  /// What reads the volume along one packet's rays: the volume's own sampler where it has
+  /// one (which may keep where the last samples were, as Unstructured's cells), else its
+  /// sample().
+  template <class Arch>
+  auto sampler() const {
+    if constexpr (requires { volume_->template sampler<Arch>(); })
+      return volume_->template sampler<Arch>();
+    else
+      return [volume = volume_.get()](const Vec3<simd::Float<Arch>>& p) { return volume->template sample<Arch>(p); };
+  }
+
   /// The macrocell holding world positions `p` (clamped to the grid) and the largest σ
   /// it can give.
   template <class Arch>
