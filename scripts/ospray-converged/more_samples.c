@@ -5,6 +5,8 @@
 //   OSPRAY_SAMPLES_SCALE=N         multiplies every renderer's pixelSamples by N
 //   OSPRAY_LIGHT_SAMPLES=N         also sets the renderer's lightSamples to N (a path
 //                                  tracer with 0 finds lights by BSDF sampling alone)
+//   OSPRAY_VOLUME_RATE=R           also sets the renderer's volumeSamplingRate to R (to
+//                                  converge a runtime that samples volumes coarsely)
 //   OSPRAY_INT_OVERRIDE=name=v     replaces every int parameter `name` by v
 //   OSPRAY_FLOAT_OVERRIDE=name:old=v  replaces float parameters `name` that were set to old
 #define _GNU_SOURCE
@@ -35,6 +37,11 @@ void ospSetParam(OSPObject object, const char *id, OSPDataType type, const void 
     if (light_samples) {
       const int n = atoi(light_samples);
       next(object, "lightSamples", OSP_INT, &n);
+    }
+    const char *volume_rate = getenv("OSPRAY_VOLUME_RATE");
+    if (volume_rate) {
+      const float rate = (float)atof(volume_rate);
+      next(object, "volumeSamplingRate", OSP_FLOAT, &rate);
     }
     return;
   }
