@@ -55,16 +55,18 @@ struct UnstructuredData {
 
 class Unstructured {
 public:
-  explicit Unstructured(UnstructuredData data) : d_(std::move(data)) {
+  explicit Unstructured(UnstructuredData data) : d_(std::move(data)), cells_(d_.cell_index.size()) {
     validate();
+    narrow_indices();
     build_hierarchy();
   }
 
-  std::size_t cell_count() const { return d_.cell_index.size(); }
+  std::size_t cell_count() const { return cells_; }
   Box3f bounds() const { return nodes_.front().box; }
   std::size_t owned_bytes() const {
     return d_.positions.size() * sizeof(Vec3f) + (d_.vertex_values.size() + d_.cell_values.size()) * sizeof(float) +
-           (d_.index.size() + d_.cell_index.size()) * sizeof(std::uint64_t) + d_.cell_type.size() +
+           (d_.index.size() + d_.cell_index.size()) * sizeof(std::uint64_t) +
+           (index32_.size() + cell_index32_.size()) * sizeof(std::uint32_t) + d_.cell_type.size() +
            nodes_.size() * sizeof(Node) + order_.size() * sizeof(std::uint32_t);
   }
   /// How many cells fold over themselves (their map's Jacobian changes sign): they are
@@ -186,7 +188,24 @@ private:
     std::uint32_t count;  // cells in a leaf, 0 for an inner node
   };
 
-  std::uint64_t vertex(std::uint32_t cell, int k) const { return d_.index[d_.cell_index[cell] + static_cast<std::uint64_t>(k)]; }
+  std::uint64_t vertex(std::uint32_t cell, int k) const {
+    const std::uint64_t at = (cell_index32_.empty() ? d_.cell_index[cell] : cell_index32_[cell]) + static_cast<std::uint64_t>(k);
+    return index32_.empty() ? d_.index[at] : index32_[at];
+  }
+
+  /// Indices in 32 bits where they fit (vertices, and entries of `index`, below 2^32):
+  /// 20 bytes less a tetrahedron.
+  void narrow_indices() {
+    constexpr std::uint64_t fits = std::numeric_limits<std::uint32_t>::max();
+    if (d_.positions.size() <= fits) {
+      index32_.assign(d_.index.begin(), d_.index.end());
+      d_.index = {};
+    }
+    if (index32_.size() + d_.index.size() <= fits) {
+      cell_index32_.assign(d_.cell_index.begin(), d_.cell_index.end());
+      d_.cell_index = {};
+    }
+  }
   int vertices(std::uint32_t cell) const { return cell_vertex_count(d_.cell_type[cell]); }
 
   Box3f cell_box(std::uint32_t cell) const {
@@ -457,7 +476,9 @@ private:
     build_node(left + 1, middle, last, boxes, centres, depth + 1);
   }
 
-  UnstructuredData d_;
+  UnstructuredData d_;  // index and cell_index emptied where narrow_indices() keeps them in 32 bits
+  std::size_t cells_;
+  std::vector<std::uint32_t> index32_, cell_index32_;
   std::vector<Node> nodes_;
   std::vector<std::uint32_t> order_;  ///< cell indices, grouped by leaf
   Vec3f cell_size_{1.f, 1.f, 1.f};
