@@ -40,10 +40,10 @@
 #include <vector>
 
 #include "sciray/math/random.hpp"
-#include "sciray/math/random_lanes.hpp"
 #include "sciray/render/bsdf.hpp"
 #include "sciray/render/common.hpp"
 #include "sciray/render/geometry_light.hpp"
+#include "sciray/render/lambert_lanes.hpp"
 #include "sciray/render/phase.hpp"
 
 namespace sciray {
@@ -215,10 +215,7 @@ private:
     std::uint32_t medium = no_material;  // the material whose interior the path is in
     Material* textured_material = nullptr;  // where its material with maps resolved goes, if any has maps
     const Material* material = nullptr;  // the material at the path's current surface
-    // A surface whose material is Lambert's alone (lambert_kd): its colour (kd times the
-    // geometry's), the normal of its shading frame and whether it scatters wo at all.
-    bool lambert = false, lambert_scatters = false;
-    Vec3f lambert_tint, lambert_normal;
+    std::optional<LambertSurface> lambert;  // at a surface of Lambert's lobe alone: what it is
     // The first hit's channels: distance, normal, albedo, and primitive, object, instance ids.
     float first_t = std::numeric_limits<float>::infinity();
     Vec3f first_normal{0.f, 0.f, 0.f}, first_albedo{0.f, 0.f, 0.f};
@@ -345,7 +342,7 @@ private:
       lambert_lane[i] = path[i].alive && vertex[i].kind == Vertex::Kind::surface && path[i].lambert ? 1.f : 0.f;
     const M lambert_lanes = simd::load<Arch>(lambert_lane) > F(0.f);
 
-    std::optional<LambertPacket> lambert;
+    std::optional<LambertPacket<Arch>> lambert;
     if (simd::any(lambert_lanes)) lambert = gather_lambert(path, lambert_lanes);
 
     sample_lights(path, vertex, lambert, ray.time);
@@ -416,68 +413,33 @@ private:
     return true;
   }
 
-  /// Lambert's lobe alone (bsdf.hpp's sample() and eval() of an obj material with kd
-  /// only): the energy-conserving kd of a material that is nothing else, or none.
-  static std::optional<Vec3f> lambert_kd(const Material& material) {
-    const auto* obj = std::get_if<ObjMaterial>(&material);
-    if (!obj || has_maps(material) || obj->d != 1.f) return std::nullopt;
-    const ObjMaterial m = energy_conserving(*obj);
-    if (bsdf_detail::max_component(m.ks) > 0.f || bsdf_detail::max_component(m.tf) > 0.f) return std::nullopt;
-    return m.kd;
-  }
-
-  /// Marks a path at surface s as scattering by Lambert's lobe alone, or not: its tint,
-  /// shading frame normal and whether wo sees a lobe, as make_bsdf() would find them.
+  /// Whether a path at surface s scatters by Lambert's lobe alone, and as what
+  /// (lambert_lanes.hpp), or not (p.lambert none).
   void set_lambert(Path& p, const SurfacePoint& s) const {
     static const Vec3f own_colors = *lambert_kd(ObjMaterial{{1.f, 1.f, 1.f}});
     static const Vec3f default_grey = *lambert_kd(ObjMaterial{});
     const std::optional<Vec3f> kd = s.material != no_material ? lambert_kd_[s.material]
                                     : s.has_color                ? own_colors
                                                                  : default_grey;
-    p.lambert = kd && p.sp.alpha == 1.f && !p.sp.coat_n;
-    if (!p.lambert) return;
-    const Vec3f wo = -p.dir;
-    p.lambert_tint = *kd * p.sp.color;
-    const bool from_below = dot(p.sp.n, wo) <= 0.f;
-    p.lambert_normal = from_below ? p.sp.n : bsdf_detail::facing(p.sp.n, wo, p.sp.ng);
-    p.lambert_scatters = dot(wo, p.sp.ng) > 0.f && (from_below || dot(p.lambert_normal, wo) > 0.f) &&
-                         bsdf_detail::max_component(p.lambert_tint) > 0.f;
+    p.lambert = kd ? lambert_surface(*kd, p.sp, -p.dir) : std::nullopt;
   }
 
-  /// Lambert's f·cos and pdf towards wi (eval() of the material set_lambert saw).
-  static BsdfValue lambert_value(const Path& p, const Vec3f& wi) {
-    BsdfValue f;
-    const float cos_i = dot(p.lambert_normal, wi);
-    // Light from below the geometric surface, or the shading frame, does not reach wo.
-    if (!p.lambert_scatters || dot(wi, p.sp.ng) < 0.f || !(cos_i > 0.f)) return f;
-    f.pdf = cos_i / bsdf_detail::pi;
-    f.f_cos = p.lambert_tint * f.pdf;
-    return f;
-  }
-
-  /// What the paths at Lambert surfaces (`lanes`) scatter by, as lanes: gathered once a
-  /// bounce for their light samples and their next directions.
-  struct LambertPacket {
-    M lanes, scatters;  // scatters: lambert_scatters
-    Vec3<F> at, shading_normal, frame_normal, ng, tint, throughput;
-    F offset;
-    std::array<PixelRandom*, W> rngs;
-  };
-
-  static LambertPacket gather_lambert(const PathLanes& path, const M& lanes) {
+  /// The paths at Lambert surfaces (`lanes`) as a packet, gathered once a bounce.
+  static LambertPacket<Arch> gather_lambert(const PathLanes& path, const M& lanes) {
     alignas(64) float in[20][W];
-    LambertPacket packet;
+    LambertPacket<Arch> packet;
     packet.lanes = lanes;
     for (int i = 0; i < W; ++i) {
       Path& p = path[i];
       packet.rngs[static_cast<std::size_t>(i)] = &p.rng;
       const bool lane = simd::lane(lanes, i);
+      const LambertSurface surface = lane ? *p.lambert : LambertSurface{};
       // Idle lanes get a unit normal, so that their (unused) arithmetic stays finite.
-      const Vec3f n = lane ? p.sp.n : Vec3f{0.f, 0.f, 1.f}, fn = lane ? p.lambert_normal : n, ng = lane ? p.sp.ng : n;
+      const Vec3f n = lane ? p.sp.n : Vec3f{0.f, 0.f, 1.f}, fn = lane ? surface.frame_normal : n, ng = lane ? p.sp.ng : n;
       const float c[20] = {p.p.x, p.p.y, p.p.z, n.x, n.y, n.z, fn.x, fn.y, fn.z, ng.x, ng.y, ng.z,
-                           p.lambert_tint.x, p.lambert_tint.y, p.lambert_tint.z,
+                           surface.tint.x, surface.tint.y, surface.tint.z,
                            p.throughput.x, p.throughput.y, p.throughput.z, lane ? p.offset : 0.f,
-                           lane && p.lambert_scatters ? 1.f : 0.f};
+                           surface.scatters ? 1.f : 0.f};
       for (int k = 0; k < 20; ++k) in[k][i] = c[k];
     }
     const auto lane3 = [&](int k) {
@@ -490,27 +452,18 @@ private:
     return packet;
   }
 
-  /// The next direction of the Lambert `lanes`' paths, drawn as a packet: the same draws
-  /// as sample_direction() (u_lobe, then the direction), a cosine-weighted direction about
-  /// each frame normal, of weight f·cos / pdf = the tint, leaving off the surface on wo's side.
-  void sample_lambert(const PathLanes& path, const LambertPacket& packet) const {
-    const M& lanes = packet.lanes;
-    const Vec3<F>& n = packet.frame_normal;
-    PixelRandomLanes<Arch>::next_2d_of(packet.rngs, lanes);  // u_lobe: there is one lobe to pick
-    const auto [u1, u2] = PixelRandomLanes<Arch>::next_2d_of(packet.rngs, lanes);
-    const Vec3<F> wi = normalize(detail::sample_cosine(n, u1, u2));
-    const F cos_i = dot(n, wi);
-    const M scattered = packet.scatters & (cos_i > F(0.f));
-    const F pdf = cos_i / F(bsdf_detail::pi);
-    const Vec3<F> org = packet.at + packet.ng * packet.offset;
-    const Vec3<F> throughput = packet.throughput * packet.tint;
+  /// The next directions of the Lambert packet's paths (sample_lambert_directions),
+  /// written back to the paths.
+  void sample_lambert(const PathLanes& path, const LambertPacket<Arch>& packet) const {
+    const LambertDirections<Arch> d = sample_lambert_directions(packet);
     alignas(64) float out[10][W];
-    const F values[10] = {wi.x, wi.y, wi.z, throughput.x, throughput.y, throughput.z, pdf, org.x, org.y, org.z};
+    const F values[10] = {d.dir.x,          d.dir.y, d.dir.z, d.throughput.x, d.throughput.y, d.throughput.z,
+                          d.pdf,            d.org.x, d.org.y, d.org.z};
     for (int k = 0; k < 10; ++k) simd::store<Arch>(out[k], values[k]);
     for (int i = 0; i < W; ++i) {
-      if (!simd::lane(lanes, i)) continue;
+      if (!simd::lane(packet.lanes, i)) continue;
       Path& p = path[i];
-      if (!simd::lane(scattered, i)) {
+      if (!simd::lane(d.scattered, i)) {
         p.alive = false;
         continue;
       }
@@ -643,7 +596,7 @@ private:
   /// of lightSamples lights picked at random, each lane its own), the shadow rays of one
   /// round traced as a packet (at the camera rays' `time`, where lights of moving
   /// instances are placed) and attenuated by the volumes they cross.
-  void sample_lights(const PathLanes& path, const Vertex* vertex, const std::optional<LambertPacket>& lambert,
+  void sample_lights(const PathLanes& path, const Vertex* vertex, const std::optional<LambertPacket<Arch>>& lambert,
                      const F& time) const {
     // Without light sampling only BSDF-sampled rays find lights; delta lights then vanish.
     if (params_.light_sampling == LightSampling::bsdf_only || light_count() == 0) return;
@@ -655,7 +608,7 @@ private:
       // A round of one fixed light for every path: the Lambert lanes' samples as a packet.
       M packet(false);
       if (!pick && round < params_.lights.size() && lambert &&
-          sample_light_lambert(params_.lights[round], *lambert, shadow))
+          shadows_of_lambert_packet(params_.lights[round], *lambert, shadow))
         packet = lambert->lanes;
       for (int i = 0; i < W; ++i) {
         Path& p = path[i];
@@ -763,7 +716,8 @@ private:
   /// What a path's vertex scatters towards wi: the phase function in a medium, the BSDF
   /// (times the cosine) on a surface.
   BsdfValue scattering(const Path& p, const Vertex& v, const Vec3f& wi) const {
-    if (v.kind != Vertex::Kind::medium) return p.lambert ? lambert_value(p, wi) : eval(*p.material, p.sp, -p.dir, wi);
+    if (v.kind != Vertex::Kind::medium)
+      return p.lambert ? lambert_value(*p.lambert, p.sp.ng, wi) : eval(*p.material, p.sp, -p.dir, wi);
     BsdfValue f;
     f.pdf = henyey_greenstein(dot(p.dir, wi), v.anisotropy);
     f.f_cos = splat(f.pdf);
@@ -781,62 +735,18 @@ private:
     std::optional<Vec3f> end;
   };
 
-  /// sample_lights() of one light for the Lambert `lanes` as a packet: the same draw and
-  /// the same sample as light.hpp's sample() for ambient light (about the shading
-  /// normal), a point distant light and a quad light without an intensity table; false
-  /// (nothing drawn) for the other kinds, which go lane by lane.
-  bool sample_light_lambert(const Light& light, const LambertPacket& packet, Shadow* shadow) const {
-    constexpr float inf = std::numeric_limits<float>::infinity();
-    const auto* ambient = std::get_if<AmbientLight>(&light);
-    const auto* distant = std::get_if<DistantLight>(&light);
-    const auto* quad = std::get_if<QuadLight>(&light);
-    if (!ambient && !(distant && distant->angular_diameter <= 0.f) && !(quad && !quad->distribution)) return false;
-    const M& lanes = packet.lanes;
-    const Vec3<F>&at = packet.at, &n = packet.shading_normal;
-    const auto [u1, u2] = PixelRandomLanes<Arch>::next_2d_of(packet.rngs, lanes);
-    const Vec3<F> emission(emitted(light));
-    Vec3<F> w, weight;
-    F pdf, reach(inf);
-    M sampled = lanes;
-    if (ambient) {
-      w = detail::sample_cosine(n, u1, u2);
-      pdf = dot(w, n) / F(detail::pi);
-      sampled = sampled & (pdf > F(0.f));
-      weight = emission / pdf;
-    } else if (distant) {
-      w = Vec3<F>(-normalize(distant->direction));
-      pdf = F(inf);
-      weight = emission;
-    } else {
-      const Vec3<F> q = Vec3<F>(quad->position) + Vec3<F>(quad->edge1) * u1 + Vec3<F>(quad->edge2) * u2;
-      const Vec3f normal_area = cross(quad->edge1, quad->edge2);
-      const float area = length(normal_area);
-      const Vec3<F> d = q - at;
-      const F dist2 = dot(d, d), dist = simd::sqrt(dist2);
-      w = d / dist;
-      const F cos_light = -dot(w, Vec3<F>(normal_area)) / F(area);
-      sampled = sampled & (dist > F(0.f)) & (cos_light > F(0.f));  // not the back of the quad
-      pdf = dist2 / (cos_light * F(area));
-      weight = emission / pdf;
-      reach = dist * F(1.f - 1e-4f);
-    }
-    // lambert_value() and the power heuristic, over the lanes.
-    const F cos_i = dot(packet.frame_normal, w);
-    const F f_pdf = cos_i / F(bsdf_detail::pi);
-    const Vec3<F> f_cos = packet.tint * f_pdf;
-    sampled = sampled & packet.scatters & (dot(w, packet.ng) >= F(0.f)) & (cos_i > F(0.f)) &
-              (simd::max(f_cos.x, simd::max(f_cos.y, f_cos.z)) > F(0.f));
-    F mis(1.f);
-    if (params_.light_sampling == LightSampling::mis && !distant) {
-      const F a2 = pdf * pdf, b2 = f_pdf * f_pdf;
-      mis = simd::select(a2 + b2 > F(0.f), a2 / (a2 + b2), F(0.f));
-    }
-    const Vec3<F> contribution = packet.throughput * f_cos * weight * mis;
+  /// Light `light`'s samples for the Lambert packet (sample_light_lambert) as the lanes'
+  /// shadow rays; false (nothing drawn) for the kinds that go lane by lane.
+  bool shadows_of_lambert_packet(const Light& light, const LambertPacket<Arch>& packet, Shadow* shadow) const {
+    const auto samples = sample_light_lambert(light, packet, params_.light_sampling == LightSampling::mis);
+    if (!samples) return false;
     alignas(64) float out[7][W];
-    const F values[7] = {contribution.x, contribution.y, contribution.z, w.x, w.y, w.z, reach};
+    const F values[7] = {samples->contribution.x, samples->contribution.y, samples->contribution.z,
+                         samples->dir.x,          samples->dir.y,          samples->dir.z,
+                         samples->reach};
     for (int k = 0; k < 7; ++k) simd::store<Arch>(out[k], values[k]);
     for (int i = 0; i < W; ++i)
-      if (simd::lane(sampled, i))
+      if (simd::lane(samples->sampled, i))
         shadow[i] = {{out[0][i], out[1][i], out[2][i]}, {out[3][i], out[4][i], out[5][i]}, out[6][i], std::nullopt};
     return true;
   }
