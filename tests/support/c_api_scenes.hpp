@@ -10,6 +10,7 @@
 #include <cstring>
 #include <limits>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <ospray/ospray.h>
@@ -447,6 +448,42 @@ struct VolumeScene {
     const auto image = render(size);
     const std::size_t at = 4 * static_cast<std::size_t>(size / 2 * size + size / 2);
     return {image[at], image[at + 1], image[at + 2], image[at + 3]};
+  }
+  /// centre() with `other` renderer in place of the scene's.
+  std::array<float, 4> centre_with(OSPRenderer other) {
+    std::swap(other, renderer);
+    const auto c = centre();
+    std::swap(other, renderer);
+    return c;
+  }
+  /// The path tracer's alpha is OSPRay's: 1 where the camera path collides in the volume,
+  /// 0 where it passes through, so over the 12 x 12 inner pixels of 16 x 16 (the volume
+  /// fills the view; the pixel filter reaches past its edge) at 128 samples its mean is
+  /// the opacity, within 4 standard errors (0.011).
+  double path_traced_alpha() {
+    OSPRenderer pathtracer = ospNewRenderer("pathtracer");
+    ospSetInt(pathtracer, "pixelSamples", 128);
+    ospCommit(pathtracer);
+    std::swap(pathtracer, renderer);
+    const auto image = render(16);
+    std::swap(pathtracer, renderer);
+    ospRelease(pathtracer);
+    double mean_alpha = 0;
+    for (int y = 2; y < 14; ++y)
+      for (int x = 2; x < 14; ++x) mean_alpha += image[4 * (16 * y + x) + 3] / 144.0;
+    return mean_alpha;
+  }
+  /// With a model of extinction 1 over the unit cube committed: instance transforms place
+  /// it, stretched to z in [1, 3] along the view twice as thick (sigma per world unit, as
+  /// OSPRay), turned a quarter about y still 1 thick. Leaves it turned.
+  void check_placed_by_instance_transforms() {
+    set_transform(instance, scale_then_move(1, 1, 2, 0, 0, 1));
+    ospCommit(instance);
+    CHECK(centre()[3] == Approx(1.f - std::exp(-2.f)).epsilon(1e-5));
+    const std::array<float, 12> turned{0.f, 0.f, -1.f, 0.f, 1.f, 0.f, 1.f, 0.f, 0.f, 0.f, 0.f, 1.f};
+    set_transform(instance, turned);
+    ospCommit(instance);
+    CHECK(centre()[3] == Approx(1.f - std::exp(-1.f)).epsilon(1e-5));
   }
 };
 
