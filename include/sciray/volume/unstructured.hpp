@@ -104,11 +104,8 @@ public:
 
   /// The value at p: interpolated in the cell that holds it, else the background.
   float sample(const Vec3f& p) const {
-    float value = d_.background;
-    locate(p, [&](std::uint32_t cell, const std::array<float, 8>& weights) {
-      value = interpolate(cell, weights);
-    });
-    return value;
+    std::uint32_t cell;
+    return sample(p, cell);
   }
   template <class Arch>
   simd::Float<Arch> sample(const Vec3<simd::Float<Arch>>& p) const {
@@ -139,12 +136,7 @@ public:
           out[i] = volume_->interpolate(last, shape(static_cast<CellType>(volume_->d_.cell_type[last]), r, s, t));
           continue;
         }
-        out[i] = volume_->d_.background;
-        last = no_cell;
-        volume_->locate(q, [&](std::uint32_t cell, const std::array<float, 8>& weights) {
-          out[i] = volume_->interpolate(cell, weights);
-          last = cell;
-        });
+        out[i] = volume_->sample(q, last);
       }
       if constexpr (std::is_same_v<Arch, simd::scalar>)
         return out[0];
@@ -153,7 +145,6 @@ public:
     }
 
   private:
-    static constexpr std::uint32_t no_cell = 0xffffffffu;
     const Unstructured* volume_;
     std::array<std::uint32_t, simd::width<Arch>> last_;
   };
@@ -187,6 +178,19 @@ private:
     std::uint32_t first;  // leaf: the first of its cells in order_; inner: its left child (right follows)
     std::uint32_t count;  // cells in a leaf, 0 for an inner node
   };
+
+  static constexpr std::uint32_t no_cell = 0xffffffffu;
+
+  /// sample(p), and in `cell` the cell that holds p (no_cell where none does).
+  float sample(const Vec3f& p, std::uint32_t& cell) const {
+    float value = d_.background;
+    cell = no_cell;
+    locate(p, [&](std::uint32_t found, const std::array<float, 8>& weights) {
+      value = interpolate(found, weights);
+      cell = found;
+    });
+    return value;
+  }
 
   std::uint64_t vertex(std::uint32_t cell, int k) const {
     const std::uint64_t at = (cell_index32_.empty() ? d_.cell_index[cell] : cell_index32_[cell]) + static_cast<std::uint64_t>(k);
