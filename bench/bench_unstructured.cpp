@@ -1,6 +1,6 @@
 // Unstructured volumes: whole scivis frames of a 1M-tetrahedron volume per ISA, against
 // the same field resampled to a structured float grid of equal memory in the same run
-// (bench/ratio.py: unstructured over grid), and the cost of its samples.
+// (bench/ratio.py prints the tetrahedra's speed as a multiple of the grid's).
 //
 // The volume: a lattice of 55³ cubes, each cut into 6 tetrahedra (998,250 cells), of the
 // smooth field sin(0.3 x) + sin(0.4 y) cos(0.2 z) at the vertices; the grid samples the

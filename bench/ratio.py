@@ -9,7 +9,8 @@ Prints Markdown tables: for each scene, each engine benchmark's median rays/s an
 ratio to frame/raw_embree/intersect16/<scene>; for spheres, sciray's own intersector
 against Embree's native spheres (frame/spheres/<isa>/native/<scene>) of the same ISA;
 for BVH builds (bench_build.cpp), the engine's build rate over raw Embree's on the same
-mesh; for renderers (bench_renderers.cpp), what each configuration costs a pixel sample as a
+mesh; for unstructured volumes (bench_unstructured.cpp), the 1M-tetrahedron frame's speed
+over the grid of equal memory's; for renderers (bench_renderers.cpp), what each configuration costs a pixel sample as a
 multiple of primary rays, renderer/<isa>/<scene>/scivis, of the same ISA and scene:
 
     ./build/bench/sciray_bench --benchmark_filter=renderer/ --benchmark_min_time=0.2 \
@@ -54,25 +55,29 @@ def main(path):
         if name.startswith("frame/raw_embree"):
             print(f"| `{name}` (baseline) | {rate / 1e6:.1f} | 1.00 |")
 
-    spheres = sorted(name for name in rates if name.startswith("frame/spheres/"))
-    if spheres:
-        print("\n| benchmark | Mrays/s | own / native |")
-        print("|---|---:|---:|")
-        for name in spheres:
-            native = rates.get(name.replace("/own/", "/native/"))
-            ratio = f"{rates[name] / native:.2f}" if "/own/" in name and native else "1.00" if "/native/" in name else "n/a"
-            print(f"| `{name}` | {rates[name] / 1e6:.1f} | {ratio} |")
+    ratio_table(rates, "frame/spheres/", ("Mrays/s", "own / native"), lambda n: n.replace("/own/", "/native/"))
     for name, rate in sorted(rates.items()):
         if name.startswith("frame/curves/"):
             print(f"| `{name}` | {rate / 1e6:.1f} | |")
-    builds = sorted(name for name in rates if name.startswith("build/sciray/"))
-    if builds:
-        print("\n| benchmark | Mtriangles/s | speed × raw Embree |")
-        print("|---|---:|---:|")
-        for name in builds:
-            raw = rates.get(name.replace("/sciray/", "/raw_embree/"))
-            print(f"| `{name}` | {rates[name] / 1e6:.2f} | {rates[name] / raw:.2f} |" if raw else f"| `{name}` | | n/a |")
+    ratio_table(rates, "build/sciray/", ("Mtriangles/s", "speed × raw Embree"),
+                lambda n: n.replace("/sciray/", "/raw_embree/"), digits=2)
+    ratio_table(rates, "frame/unstructured/", ("Mpixels/s", "speed × grid of equal memory"),
+                lambda n: n.replace("/tetrahedra_1M", "/grid_of_equal_memory"), digits=3)
     renderer_costs(rates)
+
+
+def ratio_table(rates, prefix, columns, counterpart, digits=1):
+    """A table of the benchmarks named `prefix`...: each one's rate (in millions) and its
+    ratio to the rate of counterpart(name) in the same run (1.00 for the counterparts)."""
+    names = sorted(name for name in rates if name.startswith(prefix))
+    if not names:
+        return
+    print(f"\n| benchmark | {columns[0]} | {columns[1]} |")
+    print("|---|---:|---:|")
+    for name in names:
+        baseline = rates.get(counterpart(name))
+        ratio = f"{rates[name] / baseline:.2f}" if baseline else "n/a"
+        print(f"| `{name}` | {rates[name] / 1e6:.{digits}f} | {ratio} |")
 
 
 RENDERER_CONFIGS = ["scivis_shadows", "scivis_ao4", "ao1", "ao4", "pathtracer_pl8"]
