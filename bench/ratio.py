@@ -9,8 +9,9 @@ Prints Markdown tables: for each scene, each engine benchmark's median rays/s an
 ratio to frame/raw_embree/intersect16/<scene>; for spheres, sciray's own intersector
 against Embree's native spheres (frame/spheres/<isa>/native/<scene>) of the same ISA;
 for BVH builds (bench_build.cpp), the engine's build rate over raw Embree's on the same
-mesh; for unstructured volumes (bench_unstructured.cpp), the 1M-tetrahedron frame's speed
-over the grid of equal memory's; for renderers (bench_renderers.cpp), what each configuration costs a pixel sample as a
+mesh; for unstructured volumes (bench_unstructured.cpp), the 1M-tetrahedron frame's speed,
+sampled and exact, over the grid of equal memory's; for volume samples
+(bench_volume_types.cpp), each type's samples/s per ISA over its scalar path; for renderers (bench_renderers.cpp), what each configuration costs a pixel sample as a
 multiple of primary rays, renderer/<isa>/<scene>/scivis, of the same ISA and scene:
 
     ./build/bench/sciray_bench --benchmark_filter=renderer/ --benchmark_min_time=0.2 \
@@ -62,7 +63,8 @@ def main(path):
     ratio_table(rates, "build/sciray/", ("Mtriangles/s", "speed × raw Embree"),
                 lambda n: n.replace("/sciray/", "/raw_embree/"), digits=2)
     ratio_table(rates, "frame/unstructured/", ("Mpixels/s", "speed × grid of equal memory"),
-                lambda n: n.replace("/tetrahedra_1M", "/grid_of_equal_memory"), digits=3)
+                lambda n: re.sub(r"/tetrahedra_1M(_exact)?$", "/grid_of_equal_memory", n), digits=3)
+    ratio_table(rates, "samples/", ("Msamples/s", "speed × scalar"), lambda n: re.sub(r"/[^/]+$", "/scalar", n))
     renderer_costs(rates)
 
 

@@ -140,6 +140,11 @@ IsaKernels make_kernels(simd::Isa isa) {
           &accumulate_tile<Arch>,
           &sample_volume<Arch, StructuredRegular<float>>,
           &sample_volume<Arch, StructuredRegular<float, BrickedLayout>>,
+          &sample_volume<Arch, Unstructured>,
+          &sample_volume<Arch, Particles>,
+          &sample_volume<Arch, StructuredSpherical>,
+          &sample_volume<Arch, Vdb>,
+          &sample_volume<Arch, Amr>,
           &trace<Arch>,
           &render_region<Arch>};
 }

@@ -7,7 +7,7 @@
 //                 [--style ball-and-stick|space-filling] [--sphere-intersector sciray|embree]
 //                 [--clip-plane a,b,c,d]... [--clip-sphere x,y,z,r]...
 //                 [--tf tf.json] [--layout linear|bricked] [--density D] [--anisotropy G] [--sampling-rate R] [--gradient-shading S]
-//                 [--iso V]... [--slice a,b,c,d]... [--preintegration] [--adaptive-sampling]
+//                 [--iso V]... [--slice a,b,c,d]... [--preintegration] [--adaptive-sampling] [--exact]
 //                 [--no-empty-space-skipping]
 //                 [--renderer scivis|ao|pathtracer] [--spp N] [--shadows] [--ao-samples N] [--ao-distance D]
 //                 [--max-path-length N] [--material JSON]... [--texcoord-from PROPERTY] [--light JSON]...
@@ -160,6 +160,7 @@ sciray::shim::RendererConfig renderer_config(const RenderOptions& opt, std::vect
     params.empty_space_skipping = !opt.no_empty_space_skipping;
     params.volume_preintegration = opt.preintegration;
     params.volume_adaptive_sampling = opt.adaptive_sampling;
+    params.volume_exact = opt.volume.exact;
     return params;
   };
   if (opt.renderer == "scivis") {
@@ -488,6 +489,8 @@ int main(int argc, char** argv) {
                        "volumes: integrate the transfer function over each step (accurate at coarse steps)");
   render_cmd->add_flag("--adaptive-sampling", opt.adaptive_sampling,
                        "volumes: step lengths from the local density (finer in dense matter)");
+  render_cmd->add_flag("--exact", opt.volume.exact,
+                       "volumes: integrate meshes of tetrahedra (.vtu) exactly, cell by cell, instead of sampling");
   render_cmd->add_flag("--no-empty-space-skipping", opt.no_empty_space_skipping,
                        "volumes: take every sample (for measuring what skipping saves)");
   render_cmd->add_option("--clip-plane", opt.clip_planes, "a,b,c,d: clip where a*x+b*y+c*z+d < 0 (repeatable)");

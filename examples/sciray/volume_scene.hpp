@@ -26,6 +26,7 @@ struct VolumeOptions {
   float anisotropy = 0.f;         ///< the path tracer's Henyey–Greenstein g
   float gradient_shading_scale = 0.f;  ///< scivis: how much the gradient-lit colour replaces the sample's
   std::vector<float> isovalues;   ///< isosurfaces instead of volume rendering
+  bool exact = false;             ///< integrate a mesh of tetrahedra exactly (VolumeIntegration::exact)
   std::vector<std::array<float, 4>> slices;  ///< planes a,b,c,d coloured by the volume, instead
   std::string field;  ///< .vtu: the point or cell array to render (empty: its Scalars, else the first)
 };
@@ -93,16 +94,24 @@ sciray::VolumetricModel<Volume> volumetric_model(std::shared_ptr<const Volume> v
 }
 
 /// Adds the unstructured grid of .vtu file `path` to `world`, its array `opt.field`
-/// volume-rendered.
+/// volume-rendered, or its isosurfaces (a cell array averaged to the vertices first).
 inline VolumeInfo add_unstructured(sciray::shim::EngineWorld& world, const std::string& path, const VolumeOptions& opt) {
   using namespace sciray;
-  if (!opt.isovalues.empty()) throw Error("--iso: isosurfaces of unstructured volumes are not supported yet");
   if (!opt.slices.empty()) throw Error("--slice: slices of unstructured volumes are not supported yet");
   if (opt.layout != "linear") throw Error("--layout: applies to structured volumes only");
-  auto volume = std::make_shared<const Unstructured>(io::unstructured_volume(io::read_vtu(path), opt.field, path));
-  world.add_volume(volumetric_model(volume, volume->value_range(), opt));
+  UnstructuredData data = io::unstructured_volume(io::read_vtu(path), opt.field, path);
+  const bool averaged = !opt.isovalues.empty() && !data.cell_values.empty();
+  if (averaged) average_cell_values_to_vertices(data);
+  auto volume = std::make_shared<const Unstructured>(std::move(data));
+  if (opt.exact && !volume->tetrahedral())
+    throw Error("--exact: integrates meshes of tetrahedra, and " + path + " has other cells too");
+  if (!opt.isovalues.empty())
+    world.add(Isosurface(volume, opt.isovalues));
+  else
+    world.add_volume(volumetric_model(volume, volume->value_range(), opt));
   return {{static_cast<std::int64_t>(volume->cell_count()), 1, 1},
-          "unstructured (" + std::to_string(volume->folded_cells()) + " folded cells)"};
+          "unstructured (" + std::to_string(volume->folded_cells()) + " folded cells" +
+              (averaged ? "; cell values averaged to the vertices for --iso" : "") + ")"};
 }
 
 /// Adds a loaded (or generated) volume to `world`: its isosurfaces if isovalues are given,
@@ -112,6 +121,7 @@ inline VolumeInfo add_volume(sciray::shim::EngineWorld& world, const sciray::io:
   using namespace sciray;
   if (opt.layout != "linear" && opt.layout != "bricked")
     throw Error("--layout: expected linear or bricked, got '" + opt.layout + "'");
+  if (opt.exact) throw Error("--exact: integrates meshes of tetrahedra (.vtu files), not grids");
   const auto add = [&](auto voxel_tag) {
     using Voxel = decltype(voxel_tag);
     const auto* voxels = reinterpret_cast<const Voxel*>(file.voxels->data());

@@ -390,13 +390,14 @@ TEST_CASE("the remaining entry points: strided vertices, typed setters, retain, 
   ospRelease(one_d);
 
   // Types later issues bring are refused by name, not crashed on.
-  CHECK(ospNewVolume("amr") == nullptr);
+  CHECK(ospNewVolume("structuredRectilinear") == nullptr);  // no such OSPRay type
   CHECK(ospNewTransferFunction("piecewise_linear") == nullptr);  // OSPRay 1's name
   CHECK(ospNewTexture("checkerboard") == nullptr);
   CHECK(ospNewImageOperation("denoiser") == nullptr);
   CHECK(api.messages.any_error_containing("unknown texture type 'checkerboard' (sciray supports: volume, texture2d)"));
   CHECK(ospLoadModule("denoiser") == OSP_INVALID_ARGUMENT);
-  CHECK(api.messages.any_error_containing("unknown volume type 'amr' (sciray supports: structuredRegular, unstructured)"));
+  CHECK(api.messages.any_error_containing("unknown volume type 'structuredRectilinear' (sciray supports: "
+                                          "structuredRegular, unstructured, particle, structuredSpherical, vdb, amr)"));
   CHECK(api.messages.any_error_containing(
       "unknown transfer function type 'piecewise_linear' (sciray supports: piecewiseLinear)"));
   CHECK(api.messages.any_error_containing("unknown image operation type 'denoiser'"));

@@ -19,7 +19,7 @@ namespace {
 
 /// The unit cube's corners in VTK's hexahedron order, and the cube cut into cells of one
 /// OSPRay type: 1 hexahedron, 2 wedges, 3 pyramids or 6 tetrahedra.
-const std::vector<float> cube_corners = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, 0, 0, 1, 1, 0, 1, 1, 1, 1, 0, 1, 1};
+const std::vector<float> unit_cube_corners = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, 0, 0, 1, 1, 0, 1, 1, 1, 1, 0, 1, 1};
 
 struct CubeCells {
   std::uint8_t type;
@@ -41,8 +41,8 @@ void set_cube(OSPVolume volume, const CubeCells& cut, float (*f)(float z)) {
     index.insert(index.end(), c.begin(), c.end());
   }
   std::vector<float> values;
-  for (int v = 0; v < 8; ++v) values.push_back(f(cube_corners[3 * v + 2]));
-  set_array(volume, "vertex.position", cube_corners.data(), OSP_VEC3F, 8);
+  for (int v = 0; v < 8; ++v) values.push_back(f(unit_cube_corners[3 * v + 2]));
+  set_array(volume, "vertex.position", unit_cube_corners.data(), OSP_VEC3F, 8);
   set_array(volume, "vertex.data", values.data(), OSP_FLOAT, 8);
   set_array(volume, "index", index.data(), OSP_UINT, index.size());
   set_array(volume, "cell.index", cell_index.data(), OSP_UINT, cell_index.size());
@@ -143,12 +143,52 @@ TEST_CASE("unstructured volume: bad input is named through the error callback", 
   set_cube(volume, cube_cuts[0], [](float z) { return z; });
   ospCommit(volume);
   CHECK(api.messages.errors.empty());
-  // Isosurfaces of unstructured volumes are not there yet: a named error, not a wrong image.
+  // Values constant in each cell have no isosurface: a named error, not a wrong image.
+  const float one = 1.f;
+  ospRemoveParam(volume, "vertex.data");
+  set_array(volume, "cell.data", &one, OSP_FLOAT, 1);
+  ospCommit(volume);
+  CHECK(api.messages.errors.empty());
   OSPGeometry iso = ospNewGeometry("isosurface");
   ospSetObject(iso, "volume", volume);
   ospSetFloat(iso, "isovalue", 0.5f);
   ospCommit(iso);
-  api.expect_error("isosurfaces of unstructured volumes are not supported yet");
+  api.expect_error("isosurface: the unstructured volume has 'cell.data', constant in each cell, which has no isosurface");
   ospRelease(iso);
   ospRelease(volume);
+}
+
+TEST_CASE("unstructured volume: its isosurface in every cell type is the analytic plane", "[c_api][isosurface][unstructured]") {
+  ApiFixture api;
+  // f = (x + 2y + 3z) / 6 at the unit cube's corners: every cell type reproduces a linear
+  // field, so f = 0.5 is the plane x + 2y + 3z = 3, met from (x, y, −5) down +z at
+  // z = (3 − x − 2y) / 3.
+  std::vector<float> linear;
+  for (int v = 0; v < 8; ++v)
+    linear.push_back((unit_cube_corners[3 * v] + 2 * unit_cube_corners[3 * v + 1] + 3 * unit_cube_corners[3 * v + 2]) / 6.f);
+  for (const CubeCells& cut : cube_cuts) {
+    INFO("cell type " << static_cast<int>(cut.type));
+    OSPVolume volume = ospNewVolume("unstructured");
+    set_cube(volume, cut, [](float z) { return z; });
+    set_array(volume, "vertex.data", linear.data(), OSP_FLOAT, 8);
+    ospCommit(volume);
+    OSPGeometry iso = ospNewGeometry("isosurface");
+    ospSetObject(iso, "volume", volume);
+    ospSetFloat(iso, "isovalue", 0.5f);
+    ospCommit(iso);
+    GeometryScene scene(iso, true);
+    Picker pick;
+    for (const auto& [x, y] : {std::pair{0.3f, 0.4f}, std::pair{0.9f, 0.1f}, std::pair{0.05f, 0.6f}, std::pair{0.5f, 0.5f}}) {
+      INFO("pick at x = " << x << ", y = " << y);
+      const OSPPickResult hit = pick(scene.world, {x, y, -5.f});
+      check_position(hit, x, y, (3.f - x - 2 * y) / 3.f);
+      CHECK(hit.primID == 0);
+      release_pick(hit);
+    }
+    OSPPickResult miss = pick(scene.world, {1.2f, 0.5f, -5.f});  // beside the cells
+    CHECK(miss.hasHit == 0);
+    release_pick(miss);
+    ospRelease(volume);
+  }
+  CHECK(api.messages.errors.empty());
 }

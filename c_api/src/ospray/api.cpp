@@ -357,7 +357,9 @@ OSPGeometry ospNewGeometry(const char* type) {
 OSPVolume ospNewVolume(const char* type) {
   return guarded("ospNewVolume", [&] {
     const std::string t = type_string(type);
-    if (t != "structuredRegular" && t != "unstructured") unknown_type("volume", t, "structuredRegular, unstructured");
+    if (t != "structuredRegular" && t != "unstructured" && t != "particle" && t != "structuredSpherical" && t != "vdb" &&
+        t != "amr")
+      unknown_type("volume", t, "structuredRegular, unstructured, particle, structuredSpherical, vdb, amr");
     return created<OSPVolume>(new VolumeObject(t), t);
   }, OSPVolume{});
 }

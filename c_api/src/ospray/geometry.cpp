@@ -591,8 +591,6 @@ std::shared_ptr<const Isosurface> make_isosurface(const EngineVolume& volume, co
         using V = std::decay_t<decltype(v)>;
         if constexpr (std::is_same_v<V, std::monostate>)
           throw Error("isosurface: its volume has not been committed");
-        else if constexpr (std::is_same_v<V, std::shared_ptr<const Unstructured>>)
-          throw Error("isosurface: isosurfaces of unstructured volumes are not supported yet");
         else
           return std::make_shared<const Isosurface>(v, isovalues);
       },

@@ -19,6 +19,18 @@ void Renderer::on_commit() {
     params.max_path_length = get_int("maxPathLength", params.max_path_length);
     params.min_contribution = get_float("minContribution", params.min_contribution);
     params.volume_sampling_rate = get_float("volumeSamplingRate", params.volume_sampling_rate);
+    // sciray's own: how volumes are integrated (VolumeIntegration).
+    if (const Param* p = find("volumeIntegration")) {
+      if (p->type != OSP_STRING)
+        throw Error(name() + ": parameter 'volumeIntegration' must be a string, got " + type_name(p->type));
+      if (p->string == "preintegrated")
+        params.volume_preintegration = true;
+      else if (p->string == "exact")
+        params.volume_exact = true;
+      else if (p->string != "sampled")
+        throw Error(name() + ": parameter 'volumeIntegration' has unknown value '" + p->string +
+                    "' (sampled, preintegrated, exact)");
+    }
     if (auto* backplate = get_object<TextureObject>("map_backplate", OSP_TEXTURE, false)) {
       if (!backplate->committed() || !backplate->image())
         throw Error(name() + ": parameter 'map_backplate' must be a committed texture2d");

@@ -25,7 +25,7 @@ Ref<Object> one_element_array(const Param& p, OSPDataType type) {
 }  // namespace
 
 const Data* get_data(const Object& owner, const Param* p, const std::string& id,
-                     std::initializer_list<OSPDataType> accepted) {
+                     std::initializer_list<OSPDataType> accepted, bool any_dimensions) {
   if (!p || (!p->object && is_object_type(p->type))) return nullptr;  // absent, or set to NULL
   const auto accepts = [&](OSPDataType t) { return std::find(accepted.begin(), accepted.end(), t) != accepted.end(); };
   std::string expected;
@@ -45,7 +45,8 @@ const Data* get_data(const Object& owner, const Param* p, const std::string& id,
   if (!accepts(data->element_type()))
     throw Error(owner.name() + ": parameter '" + id + "' must be an array of " + expected + ", got an array of " +
                 type_name(data->element_type()));
-  if (data->dimensions() != 1) throw Error(owner.name() + ": parameter '" + id + "' must be a 1D array");
+  if (!any_dimensions && data->dimensions() != 1)
+    throw Error(owner.name() + ": parameter '" + id + "' must be a 1D array");
   return data;
 }
 
@@ -97,13 +98,13 @@ std::pair<float, float> read_range(const Object& owner, const Param& p, const st
   return {lower, upper};
 }
 
-namespace {
-
 Affine3f read_affine(const std::byte* p) {
   float m[12];
   std::memcpy(m, p, sizeof m);
   return {{m[0], m[1], m[2]}, {m[3], m[4], m[5]}, {m[6], m[7], m[8]}, {m[9], m[10], m[11]}};
 }
+
+namespace {
 
 void check_affine(const Object& owner, const Affine3f& m, const std::string& what) {
   for (const Vec3f& v : {m.vx, m.vy, m.vz, m.p})

@@ -11,11 +11,12 @@
 
 namespace sciray::ospray {
 
-/// The 1D data array parameter `p` (named `id`) of `owner`, with its element type among
+/// The 1D (or, with `any_dimensions`, 2D or 3D) data array parameter `p` (named `id`) of
+/// `owner`, with its element type among
 /// `accepted`; null where it is absent or set to NULL. As in OSPRay, a single value (or
 /// object) of an accepted type stands for a one-element array.
 const Data* get_data(const Object& owner, const Param* p, const std::string& id,
-                     std::initializer_list<OSPDataType> accepted);
+                     std::initializer_list<OSPDataType> accepted, bool any_dimensions = false);
 
 inline float read_float(const std::byte* p) {
   float v;
@@ -24,6 +25,16 @@ inline float read_float(const std::byte* p) {
 }
 
 /// A box3f element: lower x, y, z, then upper x, y, z.
+/// The elements of a 1D array of uint32 or uint64 (OSPRay takes either for indices).
+std::vector<std::uint64_t> read_indices(const Data& data);
+/// The elements of an array of float.
+std::vector<float> read_floats(const Data& data);
+/// The elements of an array of uchar, short, ushort, float or double as floats, x fastest.
+std::vector<float> read_voxels_as_floats(const Data& data);
+
+/// An affine3f parameter's 12 floats: the linear part's columns, then the translation.
+Affine3f read_affine(const std::byte* p);
+
 inline Box3f read_box(const std::byte* p) {
   Box3f b;
   b.lower = {read_float(p), read_float(p + 4), read_float(p + 8)};

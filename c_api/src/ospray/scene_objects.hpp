@@ -77,7 +77,14 @@ protected:
   void on_commit() override;
 
 private:
+  const Data& required_data(const char* id, std::initializer_list<OSPDataType> types, const char* what) const;
+  /// An OSP_VOLUME_FILTER_* parameter.
+  VolumeFilter filter_param(const char* id, VolumeFilter fallback) const;
   EngineVolume commit_unstructured();
+  EngineVolume commit_particle();
+  EngineVolume commit_structured_spherical();
+  EngineVolume commit_vdb();
+  EngineVolume commit_amr();
 
   EngineVolume volume_;
   bool zero_copy_ = false;

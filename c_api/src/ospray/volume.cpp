@@ -1,5 +1,5 @@
-// OSPRay's structuredRegular and unstructured volumes, piecewiseLinear transfer function and
-// volumetric model.
+// OSPRay's structuredRegular and unstructured volumes (the other types: volume_types.cpp),
+// piecewiseLinear transfer function and volumetric model.
 #include "scene_common.hpp"
 
 #include <algorithm>
@@ -117,42 +117,12 @@ std::size_t add_volume(shim::EngineWorld& world, const EngineVolumetricModel& mo
       model);
 }
 
-namespace {
-
-/// The elements of a 1D array of uint32 or uint64 (OSPRay takes either for indices).
-std::vector<std::uint64_t> read_indices(const Data& data) {
-  std::vector<std::uint64_t> out(static_cast<std::size_t>(data.size()));
-  for (std::size_t i = 0; i < out.size(); ++i) {
-    if (data.element_type() == OSP_UINT) {
-      std::uint32_t v;
-      std::memcpy(&v, data.element(i), sizeof v);
-      out[i] = v;
-    } else {
-      std::memcpy(&out[i], data.element(i), sizeof out[i]);
-    }
-  }
-  return out;
-}
-
-std::vector<float> read_floats(const Data& data) {
-  std::vector<float> out(static_cast<std::size_t>(data.size()));
-  for (std::size_t i = 0; i < out.size(); ++i) out[i] = read_float(data.element(i));
-  return out;
-}
-
-}  // namespace
-
 /// OSPRay's `unstructured`: vertex.position, vertex.data or cell.data, index, cell.index,
 /// cell.type, background. (hexIterative and precomputedNormals are accepted: hexahedra
 /// are always inverted iteratively, which is exact for faces that are not planar too.)
 EngineVolume VolumeObject::commit_unstructured() {
   UnstructuredData u;
-  const auto required = [&](const char* id, std::initializer_list<OSPDataType> types, const char* what) -> const Data& {
-    const Data* d = get_data(*this, find(id), id, types);
-    if (!d) throw Error(name() + ": required parameter '" + id + "' (" + what + ") is missing");
-    return *d;
-  };
-  const Data& positions = required("vertex.position", {OSP_VEC3F}, "array of vec3f");
+  const Data& positions = required_data("vertex.position", {OSP_VEC3F}, "array of vec3f");
   u.positions.resize(static_cast<std::size_t>(positions.size()));
   for (std::size_t i = 0; i < u.positions.size(); ++i) {
     const std::byte* e = positions.element(i);
@@ -167,9 +137,9 @@ EngineVolume VolumeObject::commit_unstructured() {
     u.cell_values = read_floats(*cell_data);
   else
     u.vertex_values = read_floats(*vertex_data);
-  u.index = read_indices(required("index", {OSP_UINT, OSP_ULONG}, "array of uint32 or uint64"));
-  u.cell_index = read_indices(required("cell.index", {OSP_UINT, OSP_ULONG}, "array of uint32 or uint64"));
-  const Data& types = required("cell.type", {OSP_UCHAR}, "array of uchar");
+  u.index = read_indices(required_data("index", {OSP_UINT, OSP_ULONG}, "array of uint32 or uint64"));
+  u.cell_index = read_indices(required_data("cell.index", {OSP_UINT, OSP_ULONG}, "array of uint32 or uint64"));
+  const Data& types = required_data("cell.type", {OSP_UCHAR}, "array of uchar");
   u.cell_type.resize(static_cast<std::size_t>(types.size()));
   for (std::size_t i = 0; i < u.cell_type.size(); ++i) u.cell_type[i] = static_cast<std::uint8_t>(*types.element(i));
   u.background = get_float("background", u.background);
@@ -179,10 +149,27 @@ EngineVolume VolumeObject::commit_unstructured() {
 }
 
 void VolumeObject::on_commit() {
-  if (subtype() == "unstructured") {
-    EngineVolume volume = commit_unstructured();
-    bounds_ = std::get<std::shared_ptr<const Unstructured>>(volume)->bounds();
-    volume_ = std::move(volume);
+  EngineVolume other;
+  if (subtype() == "unstructured")
+    other = commit_unstructured();
+  else if (subtype() == "particle")
+    other = commit_particle();
+  else if (subtype() == "structuredSpherical")
+    other = commit_structured_spherical();
+  else if (subtype() == "vdb")
+    other = commit_vdb();
+  else if (subtype() == "amr")
+    other = commit_amr();
+  if (!std::holds_alternative<std::monostate>(other)) {
+    bounds_ = std::visit(
+        [](const auto& v) -> Box3f {
+          if constexpr (std::is_same_v<std::decay_t<decltype(v)>, std::monostate>)
+            return {};
+          else
+            return v->bounds();
+        },
+        other);
+    volume_ = std::move(other);
     zero_copy_ = false;
     return;
   }
@@ -215,15 +202,7 @@ void VolumeObject::on_commit() {
     throw Error(name() + ": parameter 'gridSpacing' must be positive on every axis, got " + format_vec(grid.spacing));
   grid.cell_centered = get_bool("cellCentered", false);
 
-  VolumeFilter filter = VolumeFilter::linear;
-  switch (const int f = get_int("filter", OSP_VOLUME_FILTER_LINEAR)) {
-    case OSP_VOLUME_FILTER_NEAREST: filter = VolumeFilter::nearest; break;
-    case OSP_VOLUME_FILTER_LINEAR: filter = VolumeFilter::linear; break;
-    case OSP_VOLUME_FILTER_CUBIC: filter = VolumeFilter::cubic; break;
-    default:
-      throw Error(name() + ": parameter 'filter' has unknown value " + std::to_string(f) +
-                  " (OSP_VOLUME_FILTER_NEAREST = 0, OSP_VOLUME_FILTER_LINEAR = 100, OSP_VOLUME_FILTER_CUBIC = 200)");
-  }
+  const VolumeFilter filter = filter_param("filter", VolumeFilter::linear);
 
   bool bricked = false;
   if (const Param* layout = find("layout")) {

@@ -46,6 +46,7 @@ struct RendererParams {
   bool empty_space_skipping = true;
   bool volume_preintegration = false;    ///< see VolumeIntegration::preintegration
   bool volume_adaptive_sampling = false;  ///< see VolumeIntegration::adaptive_sampling
+  bool volume_exact = false;              ///< see VolumeIntegration::exact
 };
 
 /// The background at screen position (x, y): the backplate (clamped at its edges), else
@@ -358,6 +359,7 @@ VolumeIntegration volume_integration(const WorldT& world, const RendererParams& 
   if constexpr (requires { world.clipping(); }) how.clipping = world.clipping();
   how.preintegration = params.volume_preintegration;
   how.adaptive_sampling = params.volume_adaptive_sampling;
+  how.exact = params.volume_exact;
   how.hit_opacity = params.min_contribution;
   return how;
 }

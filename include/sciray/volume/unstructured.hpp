@@ -53,6 +53,28 @@ struct UnstructuredData {
   float background = std::numeric_limits<float>::quiet_NaN();  ///< the value outside every cell
 };
 
+/// Replaces `cell_values` by vertex values, each vertex the mean of the cells around it
+/// (ParaView's "cell data to point data"): what isosurfaces of cell data are drawn from.
+inline void average_cell_values_to_vertices(UnstructuredData& d) {
+  if (d.cell_values.empty()) return;
+  if (d.cell_index.size() != d.cell_values.size() || d.cell_type.size() != d.cell_values.size())
+    throw Error("unstructured volume: 'cell.data' has " + std::to_string(d.cell_values.size()) + " values but there are " +
+                std::to_string(d.cell_index.size()) + " cells");
+  std::vector<double> sum(d.positions.size(), 0.);
+  std::vector<std::uint32_t> count(d.positions.size(), 0);
+  for (std::size_t c = 0; c < d.cell_values.size(); ++c)
+    for (int k = 0; k < cell_vertex_count(d.cell_type[c]); ++k) {
+      const std::uint64_t at = d.cell_index[c] + static_cast<std::uint64_t>(k);
+      if (at >= d.index.size() || d.index[at] >= d.positions.size()) continue;  // the constructor names it
+      sum[d.index[at]] += d.cell_values[c];
+      ++count[d.index[at]];
+    }
+  d.vertex_values.resize(d.positions.size());
+  for (std::size_t v = 0; v < d.positions.size(); ++v)
+    d.vertex_values[v] = count[v] > 0 ? static_cast<float>(sum[v] / count[v]) : 0.f;
+  d.cell_values = {};
+}
+
 class Unstructured {
 public:
   explicit Unstructured(UnstructuredData data) : d_(std::move(data)), cells_(d_.cell_index.size()) {
@@ -171,47 +193,22 @@ public:
     return gradient<Arch>(p);
   }
 
-private:
-  struct Node {
-    Box3f box;
-    float lo, hi;         // the values beneath
-    std::uint32_t first;  // leaf: the first of its cells in order_; inner: its left child (right follows)
-    std::uint32_t count;  // cells in a leaf, 0 for an inner node
-  };
+  // ---- One cell at a time (isosurfaces and the exact integrator use them) ----
 
-  static constexpr std::uint32_t no_cell = 0xffffffffu;
-
-  /// sample(p), and in `cell` the cell that holds p (no_cell where none does).
-  float sample(const Vec3f& p, std::uint32_t& cell) const {
-    float value = d_.background;
-    cell = no_cell;
-    locate(p, [&](std::uint32_t found, const std::array<float, 8>& weights) {
-      value = interpolate(found, weights);
-      cell = found;
-    });
-    return value;
-  }
-
+  CellType type(std::uint32_t cell) const { return static_cast<CellType>(d_.cell_type[cell]); }
+  /// Vertex k of `cell` (an index into the positions).
   std::uint64_t vertex(std::uint32_t cell, int k) const {
     const std::uint64_t at = (cell_index32_.empty() ? d_.cell_index[cell] : cell_index32_[cell]) + static_cast<std::uint64_t>(k);
     return index32_.empty() ? d_.index[at] : index32_[at];
   }
 
-  /// Indices in 32 bits where they fit (vertices, and entries of `index`, below 2^32):
-  /// 20 bytes less a tetrahedron.
-  void narrow_indices() {
-    constexpr std::uint64_t fits = std::numeric_limits<std::uint32_t>::max();
-    if (d_.positions.size() <= fits) {
-      index32_.assign(d_.index.begin(), d_.index.end());
-      d_.index = {};
-    }
-    if (index32_.size() + d_.index.size() <= fits) {
-      cell_index32_.assign(d_.cell_index.begin(), d_.cell_index.end());
-      d_.cell_index = {};
-    }
-  }
   int vertices(std::uint32_t cell) const { return cell_vertex_count(d_.cell_type[cell]); }
 
+  std::size_t vertex_count() const { return d_.positions.size(); }
+  const Vec3f& position(std::uint64_t vertex) const { return d_.positions[vertex]; }
+  /// Whether values are given per cell (constant in each) rather than per vertex.
+  bool cell_valued() const { return !d_.cell_values.empty(); }
+  float vertex_value(std::uint64_t vertex) const { return d_.vertex_values[vertex]; }
   Box3f cell_box(std::uint32_t cell) const {
     Box3f box;
     for (int k = 0; k < vertices(cell); ++k) box.extend(d_.positions[vertex(cell, k)]);
@@ -233,8 +230,7 @@ private:
     return v;
   }
 
-  // ---- Shape functions: parametric (r, s, t) to the weights of the vertices (VTK's) ----
-
+  /// The weights of a cell's vertices at parametric (r, s, t) (VTK's shape functions).
   static std::array<float, 8> shape(CellType type, float r, float s, float t) {
     switch (type) {
       case CellType::hexahedron:
@@ -249,6 +245,162 @@ private:
     }
     return {};
   }
+  /// The parametric coordinates of p in `cell` (a tetrahedron's affine map inverted
+  /// directly, the others' by Newton's method from the cell's centre); false where p
+  /// lies outside it.
+  bool parameters(std::uint32_t cell, const Vec3f& p, float& r, float& s, float& t) const {
+    const auto type = static_cast<CellType>(d_.cell_type[cell]);
+    if (type == CellType::tetrahedron) {
+      // The affine map's inverse by Cramer's rule, straight from the edges.
+      const Vec3f& v0 = d_.positions[vertex(cell, 0)];
+      const Vec3f e1 = d_.positions[vertex(cell, 1)] - v0, e2 = d_.positions[vertex(cell, 2)] - v0,
+                  e3 = d_.positions[vertex(cell, 3)] - v0, q = p - v0;
+      const Vec3f n23 = cross(e2, e3);
+      const float det = dot(e1, n23);
+      r = dot(q, n23) / det, s = dot(e1, cross(q, e3)) / det, t = dot(e1, cross(e2, q)) / det;
+      return inside_parameters(type, r, s, t);
+    }
+    r = s = type == CellType::wedge ? 1.f / 3.f : 0.5f;
+    t = type == CellType::pyramid ? 0.2f : 0.5f;
+    for (int i = 0; i < 16; ++i) {
+      Vec3f x, j[3];
+      map(cell, r, s, t, x, j);
+      const Vec3f residual = p - x;
+      const float det = dot(j[0], cross(j[1], j[2]));
+      if (!(std::abs(det) > 0.f)) return false;
+      // Cramer's rule for j · delta = residual.
+      const float dr = dot(residual, cross(j[1], j[2])) / det;
+      const float ds = dot(j[0], cross(residual, j[2])) / det;
+      const float dt = dot(j[0], cross(j[1], residual)) / det;
+      r += dr, s += ds, t += dt;
+      if (std::abs(dr) + std::abs(ds) + std::abs(dt) < 1e-6f) break;
+      if (std::abs(r) + std::abs(s) + std::abs(t) > 100.f) return false;  // diverging: far outside
+    }
+    return inside_parameters(type, r, s, t);
+  }
+
+  /// The cell's interpolant at p (extended past its faces where p lies just outside;
+  /// its value where values are per cell).
+  float value_in_cell(std::uint32_t cell, const Vec3f& p) const {
+    if (cell_valued()) return d_.cell_values[cell];
+    float r, s, t;
+    parameters(cell, p, r, s, t);
+    return interpolate(cell, shape(type(cell), r, s, t));
+  }
+  /// Where the ray org + t·dir is inside tetrahedron `cell`, from its four face planes;
+  /// false where it misses.
+  bool tetrahedron_span(std::uint32_t cell, const Vec3f& org, const Vec3f& dir, float& t_in, float& t_out) const {
+    std::array<Vec3f, 4> v;
+    for (int k = 0; k < 4; ++k) v[static_cast<std::size_t>(k)] = position(vertex(cell, k));
+    t_in = -std::numeric_limits<float>::infinity(), t_out = std::numeric_limits<float>::infinity();
+    for (std::size_t k = 0; k < 4; ++k) {
+      // The face opposite vertex k; points p inside have dot(n, p − a) <= 0.
+      const Vec3f& a = v[(k + 1) % 4];
+      Vec3f n = cross(v[(k + 2) % 4] - a, v[(k + 3) % 4] - a);
+      if (dot(n, v[k] - a) > 0.f) n = -n;
+      const float denom = dot(n, dir), num = dot(n, a - org);
+      if (denom > 0.f)
+        t_out = std::min(t_out, num / denom);
+      else if (denom < 0.f)
+        t_in = std::max(t_in, num / denom);
+      else if (num < 0.f)
+        return false;  // parallel to the face and outside it
+    }
+    return t_in <= t_out;
+  }
+  /// Whether every cell is a tetrahedron (what exact integration needs).
+  bool tetrahedral() const { return tetrahedra_ == cell_count(); }
+  /// The value outside every cell (NaN: transparent).
+  float background() const { return d_.background; }
+
+  /// The gradient of a cell's interpolant at parametric (r, s, t): the parametric
+  /// gradient through the inverse transpose of the map's Jacobian (0 with cell values).
+  Vec3f cell_gradient(std::uint32_t cell, float r, float s, float t) const {
+    if (cell_valued()) return {0.f, 0.f, 0.f};
+    Vec3f x, j[3];
+    map(cell, r, s, t, x, j);
+    const auto dn = shape_derivatives(type(cell), r, s, t);
+    float df[3] = {0.f, 0.f, 0.f};
+    for (int k = 0; k < vertices(cell); ++k)
+      for (int a = 0; a < 3; ++a) df[a] += dn[static_cast<std::size_t>(a)][static_cast<std::size_t>(k)] * vertex_value(vertex(cell, k));
+    // g with j[a] · g = df[a]: g = (df0 (j1 × j2) + df1 (j2 × j0) + df2 (j0 × j1)) / det.
+    const float det = dot(j[0], cross(j[1], j[2]));
+    if (!(std::abs(det) > 0.f)) return {0.f, 0.f, 0.f};
+    return (cross(j[1], j[2]) * df[0] + cross(j[2], j[0]) * df[1] + cross(j[0], j[1]) * df[2]) / det;
+  }
+
+  /// The hierarchy's nodes that a segment of a ray crosses, nearest first, call
+  /// visit(cell) for each of their cells (a cell may hold the segment or not).
+  template <class Visit>
+  void cells_along(const Vec3f& org, const Vec3f& dir, float t0, float t1, Visit&& visit) const {
+    const Vec3f inv{1.f / dir.x, 1.f / dir.y, 1.f / dir.z};
+    const auto enter = [&](const Box3f& b, float& t) {
+      const Vec3f a = (b.lower - org) * inv, c = (b.upper - org) * inv;
+      const float near = std::max({std::min(a.x, c.x), std::min(a.y, c.y), std::min(a.z, c.z), t0});
+      const float far = std::min({std::max(a.x, c.x), std::max(a.y, c.y), std::max(a.z, c.z), t1});
+      t = near;
+      return near <= far;
+    };
+    std::uint32_t stack[64];
+    int top = 0;
+    float t;
+    if (!enter(nodes_.front().box, t)) return;
+    stack[top++] = 0;
+    while (top > 0) {
+      const Node& node = nodes_[stack[--top]];
+      if (node.count > 0) {
+        for (std::uint32_t k = 0; k < node.count; ++k) visit(order_[node.first + k]);
+        continue;
+      }
+      float ta, tb;
+      const bool a = enter(nodes_[node.first].box, ta), b = enter(nodes_[node.first + 1].box, tb);
+      // The nearer child is popped first.
+      if (a && b) {
+        stack[top++] = ta <= tb ? node.first + 1 : node.first;
+        stack[top++] = ta <= tb ? node.first : node.first + 1;
+      } else if (a || b) {
+        stack[top++] = a ? node.first : node.first + 1;
+      }
+    }
+  }
+
+private:
+  struct Node {
+    Box3f box;
+    float lo, hi;         // the values beneath
+    std::uint32_t first;  // leaf: the first of its cells in order_; inner: its left child (right follows)
+    std::uint32_t count;  // cells in a leaf, 0 for an inner node
+  };
+
+  static constexpr std::uint32_t no_cell = 0xffffffffu;
+
+  /// sample(p), and in `cell` the cell that holds p (no_cell where none does).
+  float sample(const Vec3f& p, std::uint32_t& cell) const {
+    float value = d_.background;
+    cell = no_cell;
+    locate(p, [&](std::uint32_t found, const std::array<float, 8>& weights) {
+      value = interpolate(found, weights);
+      cell = found;
+    });
+    return value;
+  }
+
+  /// Indices in 32 bits where they fit (vertices, and entries of `index`, below 2^32):
+  /// 20 bytes less a tetrahedron.
+  void narrow_indices() {
+    constexpr std::uint64_t fits = std::numeric_limits<std::uint32_t>::max();
+    if (d_.positions.size() <= fits) {
+      index32_.assign(d_.index.begin(), d_.index.end());
+      d_.index = {};
+    }
+    if (index32_.size() + d_.index.size() <= fits) {
+      cell_index32_.assign(d_.cell_index.begin(), d_.cell_index.end());
+      d_.cell_index = {};
+    }
+  }
+
+  // ---- Shape functions: parametric (r, s, t) to the weights of the vertices (VTK's) ----
+
   /// The derivatives of shape() by r, s and t.
   static std::array<std::array<float, 8>, 3> shape_derivatives(CellType type, float r, float s, float t) {
     switch (type) {
@@ -294,40 +446,6 @@ private:
       x = x + v * n[static_cast<std::size_t>(k)];
       for (int a = 0; a < 3; ++a) jacobian[a] = jacobian[a] + v * dn[static_cast<std::size_t>(a)][static_cast<std::size_t>(k)];
     }
-  }
-
-  /// The parametric coordinates of p in `cell` (a tetrahedron's affine map inverted
-  /// directly, the others' by Newton's method from the cell's centre); false where p
-  /// lies outside it.
-  bool parameters(std::uint32_t cell, const Vec3f& p, float& r, float& s, float& t) const {
-    const auto type = static_cast<CellType>(d_.cell_type[cell]);
-    if (type == CellType::tetrahedron) {
-      // The affine map's inverse by Cramer's rule, straight from the edges.
-      const Vec3f& v0 = d_.positions[vertex(cell, 0)];
-      const Vec3f e1 = d_.positions[vertex(cell, 1)] - v0, e2 = d_.positions[vertex(cell, 2)] - v0,
-                  e3 = d_.positions[vertex(cell, 3)] - v0, q = p - v0;
-      const Vec3f n23 = cross(e2, e3);
-      const float det = dot(e1, n23);
-      r = dot(q, n23) / det, s = dot(e1, cross(q, e3)) / det, t = dot(e1, cross(e2, q)) / det;
-      return inside_parameters(type, r, s, t);
-    }
-    r = s = type == CellType::wedge ? 1.f / 3.f : 0.5f;
-    t = type == CellType::pyramid ? 0.2f : 0.5f;
-    for (int i = 0; i < 16; ++i) {
-      Vec3f x, j[3];
-      map(cell, r, s, t, x, j);
-      const Vec3f residual = p - x;
-      const float det = dot(j[0], cross(j[1], j[2]));
-      if (!(std::abs(det) > 0.f)) return false;
-      // Cramer's rule for j · delta = residual.
-      const float dr = dot(residual, cross(j[1], j[2])) / det;
-      const float ds = dot(j[0], cross(residual, j[2])) / det;
-      const float dt = dot(j[0], cross(j[1], residual)) / det;
-      r += dr, s += ds, t += dt;
-      if (std::abs(dr) + std::abs(ds) + std::abs(dt) < 1e-6f) break;
-      if (std::abs(r) + std::abs(s) + std::abs(t) > 100.f) return false;  // diverging: far outside
-    }
-    return inside_parameters(type, r, s, t);
   }
 
   /// Calls found(cell, weights) for the first cell that holds p, if any.
@@ -402,6 +520,7 @@ private:
       // whose Jacobian changes sign over the cell folds it (distorted finite elements, as
       // in a crushed can's output): such cells are kept, and counted (folded_cells()).
       const auto type = static_cast<CellType>(d_.cell_type[c]);
+      tetrahedra_ += type == CellType::tetrahedron;
       const Box3f box = cell_box(c);
       const Vec3f extent = box.upper - box.lower;
       const float scale = std::max({extent.x, extent.y, extent.z});
@@ -487,6 +606,7 @@ private:
   std::vector<std::uint32_t> order_;  ///< cell indices, grouped by leaf
   Vec3f cell_size_{1.f, 1.f, 1.f};
   std::size_t folded_ = 0;
+  std::size_t tetrahedra_ = 0;
 };
 
 }  // namespace sciray

@@ -39,6 +39,7 @@
 #include "sciray/error.hpp"
 #include "sciray/math/ray.hpp"
 #include "sciray/scene/clipping.hpp"
+#include "sciray/volume/exact_integration.hpp"
 #include "sciray/volume/structured_regular.hpp"
 #include "sciray/volume/transfer_function.hpp"
 #include "sciray/volume/volume_placement.hpp"
@@ -68,6 +69,10 @@ struct VolumeIntegration {
   /// Step length from the densest extinction the macrocell can produce, so that a step
   /// absorbs about the same at any density: finer steps in dense matter, coarser in thin.
   bool adaptive_sampling = false;
+  /// Integrate tetrahedral meshes cell by cell in closed form (volume/exact_integration.hpp)
+  /// instead of by samples: no step, no sampling error. Applies to unstructured volumes
+  /// of tetrahedra without gradient shading or clipping; others are sampled.
+  bool exact = false;
   /// The opacity one step must exceed to make its sample the volume's hit (OSPRay's
   /// `minContribution`, measured with its runtime: its scivis records a volume in the
   /// depth and id channels at the first such sample).
@@ -146,6 +151,9 @@ public:
   VolumeSample<Arch> integrate(const VolumeRay<Arch>& placed, const simd::Float<Arch>& t_end,
                                const VolumeIntegration& how, const Shade& shade = nullptr) const {
     using F = simd::Float<Arch>;
+    if constexpr (std::is_same_v<Volume, Unstructured>)
+      if (how.exact && volume_->tetrahedral() && gradient_shading_scale_ == 0.f && !how.clipping)
+        return integrate_exactly<Arch>(placed, t_end, how);
     const Ray<F>& ray = placed.ray;
     auto sample = sampler<Arch>();
     VolumeSample<Arch> out{Vec3<F>(Vec3f{0.f, 0.f, 0.f}), F(0.f)};
@@ -323,6 +331,35 @@ public:
   }
 
 private:
+  /// integrate() in closed form through a tetrahedral mesh, ray by ray (integrate_tetrahedra).
+  template <class Arch>
+  VolumeSample<Arch> integrate_exactly(const VolumeRay<Arch>& placed, const simd::Float<Arch>& t_end,
+                                       const VolumeIntegration& how) const {
+    using F = simd::Float<Arch>;
+    constexpr int W = simd::width<Arch>;
+    const Ray<F>& ray = placed.ray;
+    const Vec3<F> inv{F(1.f) / ray.dir.x, F(1.f) / ray.dir.y, F(1.f) / ray.dir.z};
+    const auto [enter, box_exit] = span<Arch>(ray, inv);
+    const F leave = simd::min(box_exit, t_end);
+    alignas(64) float r[W], g[W], b[W], a[W], hit[W];
+    for (int i = 0; i < W; ++i) {
+      r[i] = g[i] = b[i] = a[i] = 0.f;
+      hit[i] = std::numeric_limits<float>::infinity();
+      const float t0 = simd::lane(enter, i), t1 = simd::lane(leave, i);
+      if (!simd::lane(placed.active, i) || !(t0 < t1)) continue;
+      const Vec3f org{simd::lane(ray.org.x, i), simd::lane(ray.org.y, i), simd::lane(ray.org.z, i)};
+      const Vec3f dir{simd::lane(ray.dir.x, i), simd::lane(ray.dir.y, i), simd::lane(ray.dir.z, i)};
+      // Marching stops at opacity 0.99 (early ray termination): so does this.
+      const ExactAccumulator acc =
+          integrate_tetrahedra(*volume_, tf_, density_scale_, org, dir, t0, t1, 0.01, how.hit_opacity, hit[i]);
+      r[i] = acc.color.x, g[i] = acc.color.y, b[i] = acc.color.z;
+      a[i] = static_cast<float>(1. - acc.transmittance);
+    }
+    VolumeSample<Arch> out{{simd::load<Arch>(r), simd::load<Arch>(g), simd::load<Arch>(b)}, simd::load<Arch>(a)};
+    out.hit_t = simd::load<Arch>(hit);
+    return out;
+  }
+
   /// What reads the volume along one packet's rays: the volume's own sampler where it has
   /// one (which may keep where the last samples were, as Unstructured's cells), else its
   /// sample().
@@ -355,16 +392,27 @@ private:
     return {x, y, z, simd::gather<Arch>(opacity_.data(), index)};
   }
 
-  /// Where each ray enters and leaves the volume's box, within [tnear, tfar].
+  /// Where each ray enters and leaves the volume's box, within [tnear, tfar]. A ray
+  /// parallel to an axis is inside that axis's slab everywhere or nowhere (also when it
+  /// lies in one of its planes, where the slab test would take 0 × ∞).
   template <class Arch>
   std::pair<simd::Float<Arch>, simd::Float<Arch>> span(const Ray<simd::Float<Arch>>& ray,
                                                        const Vec3<simd::Float<Arch>>& inv) const {
     using F = simd::Float<Arch>;
+    constexpr float inf = std::numeric_limits<float>::infinity();
     const Box3f box = bounds();
-    const Vec3<F> t0 = (Vec3<F>(box.lower) - ray.org) * inv, t1 = (Vec3<F>(box.upper) - ray.org) * inv;
-    const Vec3<F> near = min(t0, t1), far = max(t0, t1);
-    return {simd::max(simd::max(simd::max(near.x, near.y), near.z), ray.tnear),
-            simd::min(simd::min(simd::min(far.x, far.y), far.z), ray.tfar)};
+    F near = ray.tnear, far = ray.tfar;
+    for (int k = 0; k < 3; ++k) {
+      const F o = k == 0 ? ray.org.x : k == 1 ? ray.org.y : ray.org.z;
+      const F d = k == 0 ? ray.dir.x : k == 1 ? ray.dir.y : ray.dir.z;
+      const F i = k == 0 ? inv.x : k == 1 ? inv.y : inv.z;
+      const F t0 = (F(box.lower[k]) - o) * i, t1 = (F(box.upper[k]) - o) * i;
+      const auto parallel = d == F(0.f);
+      const auto in_slab = (o >= F(box.lower[k])) & (o <= F(box.upper[k]));
+      near = simd::max(near, simd::select(parallel, simd::select(in_slab, F(-inf), F(inf)), simd::min(t0, t1)));
+      far = simd::min(far, simd::select(parallel, simd::select(in_slab, F(inf), F(-inf)), simd::max(t0, t1)));
+    }
+    return {near, far};
   }
 
   /// Walks each active lane through the macrocells from where it enters the volume to

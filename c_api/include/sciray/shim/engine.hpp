@@ -25,7 +25,11 @@
 #include "sciray/scene/volume_world.hpp"
 #include "sciray/scene/world.hpp"
 #include "sciray/volume/structured_regular.hpp"
+#include "sciray/volume/amr.hpp"
+#include "sciray/volume/particle.hpp"
+#include "sciray/volume/structured_spherical.hpp"
 #include "sciray/volume/unstructured.hpp"
+#include "sciray/volume/vdb.hpp"
 #include "sciray/simd/arch.hpp"
 
 /// Marks what libsciray_ospray exports (it is built with hidden visibility).
@@ -34,13 +38,15 @@
 namespace sciray::shim {
 
 /// The full set of geometry and volume types, as the C API and the tool need it: every
-/// voxel type in the linear (shared) and bricked layouts, and unstructured volumes.
+/// voxel type in the linear (shared) and bricked layouts, unstructured volumes, particles,
+/// spherical grids, VDB trees and AMR blocks.
 using EngineWorld =
     VolumeWorld<World<TriangleMesh, Spheres, Curves, Boxes, Planes, Isosurface, VolumeSlice, Subdivision>,
                 StructuredRegular<std::uint8_t>, StructuredRegular<std::int16_t>, StructuredRegular<std::uint16_t>,
                 StructuredRegular<float>, StructuredRegular<double>, StructuredRegular<std::uint8_t, BrickedLayout>,
                 StructuredRegular<std::int16_t, BrickedLayout>, StructuredRegular<std::uint16_t, BrickedLayout>,
-                StructuredRegular<float, BrickedLayout>, StructuredRegular<double, BrickedLayout>, Unstructured>;
+                StructuredRegular<float, BrickedLayout>, StructuredRegular<double, BrickedLayout>, Unstructured,
+                Particles, StructuredSpherical, Vdb, Amr>;
 
 /// One ray's closest hit, as the packet paths report it (for cross-ISA checks).
 struct TraceResult {
@@ -78,6 +84,12 @@ struct IsaKernels {
   void (*sample_volume)(const StructuredRegular<float>& volume, std::span<const Vec3f> positions, std::span<float> out);
   void (*sample_bricked_volume)(const StructuredRegular<float, BrickedLayout>& volume, std::span<const Vec3f> positions,
                                 std::span<float> out);
+  /// The same for the other volume types (bench/bench_volume_types.cpp).
+  void (*sample_unstructured)(const Unstructured& volume, std::span<const Vec3f> positions, std::span<float> out);
+  void (*sample_particles)(const Particles& volume, std::span<const Vec3f> positions, std::span<float> out);
+  void (*sample_spherical)(const StructuredSpherical& volume, std::span<const Vec3f> positions, std::span<float> out);
+  void (*sample_vdb)(const Vdb& volume, std::span<const Vec3f> positions, std::span<float> out);
+  void (*sample_amr)(const Amr& volume, std::span<const Vec3f> positions, std::span<float> out);
   /// Traces arbitrary rays in packets of this ISA's width.
   void (*trace)(const EngineWorld& world, std::span<const Ray<float>> rays, std::span<TraceResult> results);
   /// Renders what the scivis or ao renderer (OSPRay's mpiRaycast: distributed/mpi_raycast.hpp)
