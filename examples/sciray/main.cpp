@@ -1,7 +1,8 @@
 // The `sciray` command-line tool: renders meshes, molecules (or a built-in scene) to
 // images and reports what the work cost.
 //   sciray info
-//   sciray render [MESH.ply|MOLECULE.pdb|VOLUME.raw|VOLUME.nrrd|builtin:NAME] [--camera cam.json] [--size WxH]
+//   sciray render [MESH.ply|MOLECULE.pdb|VOLUME.raw|VOLUME.nrrd|VTK.vtu|.vti|.vtp|.vtk|builtin:NAME]
+//                 [--field NAME] [--color-by NAME] [--radius R] [--camera cam.json] [--size WxH]
 //                 [--isa auto|avx512|avx2|sse4.2|scalar] [--threads N] [--frames N]
 //                 [-o out.png|out.pfm] [--depth depth.pfm] [--json]
 //                 [--style ball-and-stick|space-filling] [--sphere-intersector sciray|embree]
@@ -36,6 +37,7 @@
 #include "sciray/testing/scenes.hpp"
 #include "shading_json.hpp"
 #include "volume_scene.hpp"
+#include "vtk_scene.hpp"
 #ifdef SCIRAY_TOOL_MPI
 #include "mpi_frames.hpp"
 #endif
@@ -109,6 +111,8 @@ struct RenderOptions {
   float sampling_rate = 1.f;
   bool no_empty_space_skipping = false;
   bool preintegration = false;
+  std::string color_by;  // VTK poly data: the array that colours it
+  float radius = 0.f;    // VTK point clouds: the spheres' radius (0: from their spacing)
   bool adaptive_sampling = false;
   std::string renderer = "scivis";
   int pixel_samples = 1;
@@ -219,7 +223,7 @@ sciray::SphereIntersector parse_intersector(const std::string& name) {
 
 bool is_volume_file(const std::string& path) {
   const auto ext = std::filesystem::path(path).extension();
-  return ext == ".raw" || ext == ".nrrd" || ext == ".nhdr" || ext == ".vtu";
+  return ext == ".raw" || ext == ".nrrd" || ext == ".nhdr" || ext == ".vtu" || ext == ".vti";
 }
 
 int render(const RenderOptions& opt) {
@@ -252,22 +256,28 @@ int render(const RenderOptions& opt) {
       auto molecule = sciray::molecule_geometry(sciray::io::read_pdb(opt.mesh), sciray::parse_molecule_style(opt.style));
       scene.spheres = std::move(molecule.atoms);
       scene.curves = std::move(molecule.bonds);
-    } else if (!is_volume_file(opt.mesh)) {
+    } else if (!is_volume_file(opt.mesh) && !sciray_tool::is_vtk_file(opt.mesh)) {
       scene.mesh = sciray::io::read_ply(opt.mesh, {opt.texcoord_from});
     }
-    if (!opt.texcoord_from.empty() && (opt.mesh.empty() || opt.mesh.rfind("builtin:", 0) == 0 ||
-                                       std::filesystem::path(opt.mesh).extension() == ".pdb" || is_volume_file(opt.mesh)))
+    if (!opt.texcoord_from.empty() &&
+        (opt.mesh.empty() || opt.mesh.rfind("builtin:", 0) == 0 || std::filesystem::path(opt.mesh).extension() == ".pdb" ||
+         is_volume_file(opt.mesh) || sciray_tool::is_vtk_file(opt.mesh)))
       throw sciray::Error("--texcoord-from: needs a PLY mesh, whose vertex property it reads");
 
     sciray::accel::Device device;
     sciray::shim::EngineWorld world(device);
     std::optional<sciray_tool::VolumeInfo> volume;
-    const bool unstructured = std::filesystem::path(opt.mesh).extension() == ".vtu";
-    if (!opt.volume.field.empty() && !unstructured) throw sciray::Error("--field: needs a .vtu file, whose array it picks");
-    if (unstructured)
-      volume = sciray_tool::add_unstructured(world, opt.mesh, opt.volume);
-    else if (is_volume_file(opt.mesh))
+    const bool vtk = sciray_tool::is_vtk_file(opt.mesh);
+    if (!opt.volume.field.empty() && !vtk)
+      throw sciray::Error("--field: needs a VTK file (.vtu, .vti, .vtk), whose array it picks");
+    if (!vtk && (!opt.color_by.empty() || opt.radius != 0.f))
+      throw sciray::Error("--color-by and --radius: apply to VTK poly data (.vtp, .vtk)");
+    if (vtk) {
+      if (auto grid = sciray_tool::load_vtk(opt.mesh, {opt.volume.field, opt.color_by, opt.radius}, scene))
+        volume = sciray_tool::add_unstructured(world, *grid, opt.mesh, opt.volume);
+    } else if (is_volume_file(opt.mesh)) {
       scene.volume = sciray::io::read_volume(opt.mesh);
+    }
     if (scene.volume) {
       sciray_tool::VolumeOptions volume_options = opt.volume;
       for (const auto& slice : opt.slices) {
@@ -456,7 +466,7 @@ int main(int argc, char** argv) {
   RenderOptions opt;
   auto* render_cmd = app.add_subcommand("render", "Render a mesh (or the built-in scene) to an image");
   render_cmd->add_option("mesh", opt.mesh,
-                         "PLY mesh, PDB molecule, raw/NRRD volume, VTK unstructured grid (.vtu), or builtin:NAME (torus_1M, cornell_box, spheres_1M, streamlines, bunny, "
+                         "PLY mesh, PDB molecule, raw/NRRD volume, VTK file (.vtu unstructured grid, .vti image, .vtp poly data, legacy .vtk), or builtin:NAME (torus_1M, cornell_box, spheres_1M, streamlines, bunny, "
                          "...); "
                          "without it, the default scene");
   render_cmd->add_option("--camera", opt.camera, "camera JSON {position, look_at, up, fovy}");
@@ -472,8 +482,12 @@ int main(int argc, char** argv) {
                        "writes the outputs, the others render tiles");
   render_cmd->add_option("--style", opt.style, "molecules: ball-and-stick or space-filling");
   render_cmd->add_option("--tf", opt.volume.tf, "volumes: transfer function JSON {colors, opacities, range}");
+  render_cmd->add_option("--color-by", opt.color_by,
+                         "VTK poly data (.vtp, .vtk): colour by this point or cell array through the colour map");
+  render_cmd->add_option("--radius", opt.radius,
+                         "VTK poly data of points only: the spheres' radius (default: a fifth of their mean spacing)");
   render_cmd->add_option("--field", opt.volume.field,
-                         ".vtu: the point or cell array to render (vectors by magnitude; default: its Scalars array)");
+                         ".vtu, .vti, legacy .vtk volumes: the point or cell array to render (vectors by magnitude; default: its Scalars array)");
   render_cmd->add_option("--layout", opt.volume.layout, "volumes: linear (in place) or bricked");
   render_cmd->add_option("--density", opt.volume.density, "volumes: densityScale (default: from the size)");
   render_cmd->add_option("--anisotropy", opt.volume.anisotropy,

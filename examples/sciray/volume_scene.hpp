@@ -93,13 +93,15 @@ sciray::VolumetricModel<Volume> volumetric_model(std::shared_ptr<const Volume> v
   return model;
 }
 
-/// Adds the unstructured grid of .vtu file `path` to `world`, its array `opt.field`
-/// volume-rendered, or its isosurfaces (a cell array averaged to the vertices first).
-inline VolumeInfo add_unstructured(sciray::shim::EngineWorld& world, const std::string& path, const VolumeOptions& opt) {
+/// Adds the unstructured grid `grid` (of the file `path`) to `world`, its array
+/// `opt.field` volume-rendered, or its isosurfaces (a cell array averaged to the vertices
+/// first).
+inline VolumeInfo add_unstructured(sciray::shim::EngineWorld& world, const sciray::io::UnstructuredGridFile& grid,
+                                   const std::string& path, const VolumeOptions& opt) {
   using namespace sciray;
   if (!opt.slices.empty()) throw Error("--slice: slices of unstructured volumes are not supported yet");
   if (opt.layout != "linear") throw Error("--layout: applies to structured volumes only");
-  UnstructuredData data = io::unstructured_volume(io::read_vtu(path), opt.field, path);
+  UnstructuredData data = io::unstructured_volume(grid, opt.field, path);
   const bool averaged = !opt.isovalues.empty() && !data.cell_values.empty();
   if (averaged) average_cell_values_to_vertices(data);
   auto volume = std::make_shared<const Unstructured>(std::move(data));

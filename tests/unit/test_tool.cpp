@@ -429,3 +429,62 @@ TEST_CASE("sciray render --iso: isosurfaces of VTK unstructured grids, cell arra
     CHECK(covered > least);
   }
 }
+
+TEST_CASE("sciray render: VTK image data, poly data and point clouds", "[tool][vtk]") {
+  const auto covered = [](const std::filesystem::path& png) {
+    const sciray::io::Image image = sciray::io::read_image(png.string());
+    int n = 0;
+    for (int y = 0; y < image.height; ++y)
+      for (int x = 0; x < image.width; ++x) n += std::abs(image.at(x, y, 1) - image.at(0, 0, 1)) > 0.01f;
+    return n;
+  };
+  // The stars: 107,857 points and no polygons, drawn as spheres coloured by colour index.
+  const auto stars = scratch("stars.png");
+  const Run run = run_tool("render " SCIRAY_DATA_DIR "/points/stars.vtp --color-by ci --size 64x48 --json -o " +
+                           stars.string());
+  INFO(run.output);
+  REQUIRE(run.exit_code == 0);
+  const auto report = nlohmann::json::parse(run.output);
+  CHECK(report["spheres"] == 107857);
+  CHECK(report["triangles"] == 0);
+  CHECK(covered(stars) > 50);
+
+  // Image data written here, f = x + 2y + 3z on 4³ points: a structured volume whose
+  // isosurface f = 6 is drawn.
+  const auto vti = scratch("ramp.vti");
+  {
+    std::ofstream f(vti);
+    f << "<?xml version=\"1.0\"?>\n<VTKFile type=\"ImageData\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
+         "<ImageData WholeExtent=\"0 3 0 3 0 3\" Origin=\"0 0 0\" Spacing=\"1 1 1\"><Piece Extent=\"0 3 0 3 0 3\">\n"
+         "<PointData Scalars=\"f\"><DataArray type=\"Float32\" Name=\"f\" format=\"ascii\">\n";
+    for (int z = 0; z < 4; ++z)
+      for (int y = 0; y < 4; ++y)
+        for (int x = 0; x < 4; ++x) f << x + 2 * y + 3 * z << ' ';
+    f << "\n</DataArray></PointData><CellData/></Piece></ImageData></VTKFile>\n";
+  }
+  const auto iso = scratch("ramp.png");
+  const Run image = run_tool("render " + vti.string() + " --iso 6 --size 64x48 --json -o " + iso.string());
+  INFO(image.output);
+  REQUIRE(image.exit_code == 0);
+  CHECK(nlohmann::json::parse(image.output)["volume"]["dims"] == nlohmann::json::array({4, 4, 4}));
+  CHECK(covered(iso) > 200);
+
+  // Legacy poly data: a quad, fan-triangulated, coloured by a point scalar.
+  const auto legacy = scratch("quad.vtk");
+  std::ofstream(legacy) << "# vtk DataFile Version 3.0\nquad\nASCII\nDATASET POLYDATA\nPOINTS 4 float\n"
+                           "0 0 0 1 0 0 1 1 0 0 1 0\nPOLYGONS 1 5\n4 0 1 2 3\nPOINT_DATA 4\n"
+                           "SCALARS height float 1\nLOOKUP_TABLE default\n0 1 2 3\n";
+  const Run quad = run_tool("render " + legacy.string() + " --color-by height --size 32x32 --json -o " +
+                            scratch("quad.png").string());
+  INFO(quad.output);
+  REQUIRE(quad.exit_code == 0);
+  CHECK(nlohmann::json::parse(quad.output)["triangles"] == 2);
+
+  // Options that do not fit the file are named.
+  const Run wrong = run_tool("render " + vti.string() + " --color-by f -o " + iso.string());
+  CHECK(wrong.exit_code != 0);
+  CHECK_THAT(wrong.output, Catch::Contains("--color-by: colours poly data"));
+  const Run missing = run_tool("render " + legacy.string() + " --color-by pressure -o " + iso.string());
+  CHECK(missing.exit_code != 0);
+  CHECK_THAT(missing.output, Catch::Contains("height"));  // the arrays it has
+}

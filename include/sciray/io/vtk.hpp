@@ -172,6 +172,11 @@ inline std::vector<std::uint8_t> payload(std::string_view block, bool base64, co
   for (std::uint64_t b = 0; b < blocks; ++b) {
     const std::uint64_t size = read_header_word(header.data() + (3 + b) * word, c);
     const std::uint64_t expected = b + 1 == blocks && last_size != 0 ? last_size : block_size;
+    // zlib expands at most 1032 times: a header that says more is corrupt (and would
+    // make us allocate what it says).
+    if (expected > 1032 * size + 64)
+      throw Error(where + ": zlib block " + std::to_string(b) + " says " + std::to_string(size) +
+                  " compressed bytes hold " + std::to_string(expected) + ", more than zlib can expand them to");
     const std::size_t from = out.size();
     out.resize(from + expected);
     uLongf length = static_cast<uLongf>(expected);
@@ -211,6 +216,25 @@ inline double number_at(const std::uint8_t* p, const std::string& type, bool big
   return as(double{});
 }
 
+/// The bytes of a DataArray element whose `format` is "binary" or "appended" (decoded,
+/// decompressed, still in the file's byte order); `where` names it in messages.
+inline std::vector<std::uint8_t> encoded_bytes(const pugi::xml_node& node, const std::string& format, const Context& c,
+                                               const std::string& where) {
+  if (format == "binary") {
+    std::string_view text = node.child_value();
+    text.remove_prefix(std::min(text.find_first_not_of(" \t\r\n"), text.size()));
+    return payload(text, true, c, where);
+  }
+  if (format == "appended") {
+    const std::uint64_t offset = node.attribute("offset").as_ullong();
+    if (offset >= c.appended.size())
+      c.fail(where + ": appended offset " + std::to_string(offset) + " is past the appended data's " +
+             std::to_string(c.appended.size()) + " bytes");
+    return payload(c.appended.substr(static_cast<std::size_t>(offset)), c.appended_base64, c, where);
+  }
+  c.fail(where + ": unknown format '" + format + "' (ascii, binary, appended)");
+}
+
 /// The values of a DataArray element, `expected` tuples (0: as many as it has).
 inline VtkArray read_array(const pugi::xml_node& node, const Context& c, std::size_t expected) {
   VtkArray a;
@@ -227,20 +251,7 @@ inline VtkArray read_array(const pugi::xml_node& node, const Context& c, std::si
     while (in >> v) a.values.push_back(v);
     if (!in.eof()) c.fail(where + ": ASCII data has something that is not a number");
   } else {
-    std::vector<std::uint8_t> bytes;
-    if (format == "binary") {
-      std::string_view text = node.child_value();
-      text.remove_prefix(std::min(text.find_first_not_of(" \t\r\n"), text.size()));
-      bytes = payload(text, true, c, where);
-    } else if (format == "appended") {
-      const std::uint64_t offset = node.attribute("offset").as_ullong();
-      if (offset >= c.appended.size())
-        c.fail(where + ": appended offset " + std::to_string(offset) + " is past the appended data's " +
-               std::to_string(c.appended.size()) + " bytes");
-      bytes = payload(c.appended.substr(static_cast<std::size_t>(offset)), c.appended_base64, c, where);
-    } else {
-      c.fail(where + ": unknown format '" + format + "' (ascii, binary, appended)");
-    }
+    const std::vector<std::uint8_t> bytes = encoded_bytes(node, format, c, where);
     const int size = type_size(type);
     if (bytes.size() % static_cast<std::size_t>(size) != 0)
       c.fail(where + ": " + std::to_string(bytes.size()) + " bytes are not a whole number of " + type + " values");
@@ -255,42 +266,57 @@ inline VtkArray read_array(const pugi::xml_node& node, const Context& c, std::si
   return a;
 }
 
+/// A VTK XML file that must be of `type` (UnstructuredGrid, ImageData, PolyData), parsed,
+/// with the Context its arrays are read in. Raw appended data, which is not XML, is cut
+/// off before parsing and read by offset; `c.appended` points into `text`, so an XmlFile
+/// stays where it was made.
+struct XmlFile {
+  std::string text;
+  pugi::xml_document doc;
+  Context c;
+  pugi::xml_node root;  ///< the VTKFile element
+
+  XmlFile(const std::string& path, const std::string& type) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw Error(path + ": cannot open file");
+    text.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    c.file = path;
+    std::string xml = text;
+    if (const std::size_t tag = text.find("<AppendedData"); tag != std::string::npos) {
+      const std::size_t close = text.find('>', tag);
+      const std::size_t underscore = close == std::string::npos ? close : text.find('_', close);
+      if (underscore == std::string::npos) c.fail("AppendedData has no '_' before its data");
+      c.appended_base64 = text.substr(tag, close - tag).find("encoding=\"base64\"") != std::string::npos;
+      std::size_t end = text.rfind("</AppendedData>");
+      if (end == std::string::npos || end < underscore) end = text.size();
+      c.appended = std::string_view(text).substr(underscore + 1, end - underscore - 1);
+      xml = text.substr(0, tag) + "</VTKFile>";
+    }
+    const pugi::xml_parse_result parsed = doc.load_string(xml.c_str());
+    if (!parsed) c.fail(std::string("not valid XML: ") + parsed.description() + " at byte " + std::to_string(parsed.offset));
+    root = doc.child("VTKFile");
+    if (!root) c.fail("not a VTK XML file (no VTKFile element)");
+    if (std::string(root.attribute("type").as_string()) != type)
+      c.fail("a VTK file of type '" + std::string(root.attribute("type").as_string()) + "', not " + type);
+    c.big_endian = std::string(root.attribute("byte_order").as_string("LittleEndian")) == "BigEndian";
+    c.header64 = std::string(root.attribute("header_type").as_string("UInt32")) == "UInt64";
+    const std::string compressor = root.attribute("compressor").as_string();
+    c.compressed = !compressor.empty();
+    if (c.compressed && compressor != "vtkZLibDataCompressor")
+      c.fail("compressor '" + compressor + "' is not supported (vtkZLibDataCompressor is)");
+  }
+  XmlFile(const XmlFile&) = delete;
+  XmlFile& operator=(const XmlFile&) = delete;
+};
+
 }  // namespace vtk_detail
 
 /// Reads a .vtu file (its first piece).
 inline UnstructuredGridFile read_vtu(const std::string& path) {
   using namespace vtk_detail;
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error(path + ": cannot open file");
-  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  Context c;
-  c.file = path;
-  // Raw appended data is not XML: cut it off and read it by offset.
-  std::string xml = text;
-  if (const std::size_t tag = text.find("<AppendedData"); tag != std::string::npos) {
-    const std::size_t close = text.find('>', tag);
-    const std::size_t underscore = close == std::string::npos ? close : text.find('_', close);
-    if (underscore == std::string::npos) c.fail("AppendedData has no '_' before its data");
-    c.appended_base64 = text.substr(tag, close - tag).find("encoding=\"base64\"") != std::string::npos;
-    std::size_t end = text.rfind("</AppendedData>");
-    if (end == std::string::npos || end < underscore) end = text.size();
-    c.appended = std::string_view(text).substr(underscore + 1, end - underscore - 1);
-    xml = text.substr(0, tag) + "</VTKFile>";
-  }
-  pugi::xml_document doc;
-  const pugi::xml_parse_result parsed = doc.load_string(xml.c_str());
-  if (!parsed) c.fail(std::string("not valid XML: ") + parsed.description() + " at byte " + std::to_string(parsed.offset));
-  const pugi::xml_node root = doc.child("VTKFile");
-  if (!root) c.fail("not a VTK XML file (no VTKFile element)");
-  if (std::string(root.attribute("type").as_string()) != "UnstructuredGrid")
-    c.fail("a VTK file of type '" + std::string(root.attribute("type").as_string()) + "', not UnstructuredGrid");
-  c.big_endian = std::string(root.attribute("byte_order").as_string("LittleEndian")) == "BigEndian";
-  c.header64 = std::string(root.attribute("header_type").as_string("UInt32")) == "UInt64";
-  const std::string compressor = root.attribute("compressor").as_string();
-  c.compressed = !compressor.empty();
-  if (c.compressed && compressor != "vtkZLibDataCompressor")
-    c.fail("compressor '" + compressor + "' is not supported (vtkZLibDataCompressor is)");
-  const pugi::xml_node piece = root.child("UnstructuredGrid").child("Piece");
+  const XmlFile file(path, "UnstructuredGrid");
+  const Context& c = file.c;
+  const pugi::xml_node piece = file.root.child("UnstructuredGrid").child("Piece");
   if (!piece) c.fail("no UnstructuredGrid Piece");
   const std::size_t points = piece.attribute("NumberOfPoints").as_ullong();
   const std::size_t cells = piece.attribute("NumberOfCells").as_ullong();

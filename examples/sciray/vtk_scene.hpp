@@ -1,0 +1,84 @@
+#pragma once
+// What the tool makes of a VTK file: image data (.vti, legacy structured points) is a
+// structured volume, poly data (.vtp, legacy polydata) a mesh — or, with no polygons, a
+// point cloud of spheres — coloured by an array through the colour map, and an
+// unstructured grid (.vtu, legacy) an unstructured volume (volume_scene.hpp).
+#include <cmath>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <variant>
+
+#include "sciray/error.hpp"
+#include "sciray/io/vtk.hpp"
+#include "sciray/io/vtk_image.hpp"
+#include "sciray/io/vtk_legacy.hpp"
+#include "sciray/io/vtk_polydata.hpp"
+#include "sciray/testing/scenes.hpp"
+
+namespace sciray_tool {
+
+inline bool is_vtk_file(const std::string& path) {
+  const auto ext = std::filesystem::path(path).extension();
+  return ext == ".vtu" || ext == ".vti" || ext == ".vtp" || ext == ".vtk";
+}
+
+struct VtkOptions {
+  std::string field;     ///< image data: the array to render (empty: its Scalars)
+  std::string color_by;  ///< poly data: the point or cell array that colours it (empty: none)
+  float radius = 0.f;    ///< point clouds: the spheres' radius (0: from the points' spacing)
+};
+
+/// Poly data into `scene`: its triangles, or its points as spheres.
+inline void add_poly_data(sciray::io::PolyDataFile poly, const VtkOptions& opt, sciray::testing::StandardScene& scene) {
+  if (!opt.color_by.empty()) sciray::io::color_by(poly, opt.color_by, sciray::testing::colormap);
+  if (!poly.points_only()) {
+    scene.mesh = std::move(poly.mesh);
+    return;
+  }
+  sciray::SphereData spheres;
+  spheres.positions = std::move(poly.mesh.positions);
+  spheres.colors = std::move(poly.mesh.vertex_colors);
+  if (!(opt.radius >= 0.f) || !std::isfinite(opt.radius)) throw sciray::Error("--radius must be finite and positive");
+  spheres.radius = opt.radius;
+  if (spheres.radius == 0.f) {
+    // A fifth of the mean spacing the points would have filling their box evenly.
+    sciray::Box3f box;
+    for (std::size_t i = 0; i + 2 < spheres.positions.size(); i += 3)
+      box.extend({spheres.positions[i], spheres.positions[i + 1], spheres.positions[i + 2]});
+    const sciray::Vec3f size = box.upper - box.lower;
+    const float volume = std::max(size.x, 1e-6f) * std::max(size.y, 1e-6f) * std::max(size.z, 1e-6f);
+    spheres.radius = 0.2f * std::cbrt(volume / static_cast<float>(std::max<std::size_t>(spheres.count(), 1)));
+  }
+  scene.spheres = std::move(spheres);
+}
+
+/// Reads the VTK file `path` into `scene` (a volume, a mesh or spheres), or returns its
+/// unstructured grid for the caller to add as a volume.
+inline std::optional<sciray::io::UnstructuredGridFile> load_vtk(const std::string& path, const VtkOptions& opt,
+                                                                sciray::testing::StandardScene& scene) {
+  const auto ext = std::filesystem::path(path).extension();
+  const bool poly_data = ext == ".vtp";
+  if (!opt.color_by.empty() && ext != ".vtp" && ext != ".vtk")
+    throw sciray::Error("--color-by: colours poly data (.vtp, legacy .vtk) by one of its arrays");
+  if (!opt.field.empty() && poly_data) throw sciray::Error("--field: picks a volume's array; colour poly data with --color-by");
+  if (ext == ".vtu") return sciray::io::read_vtu(path);
+  if (ext == ".vti") {
+    scene.volume = sciray::io::read_vti(path, opt.field);
+  } else if (poly_data) {
+    add_poly_data(sciray::io::read_vtp(path), opt, scene);
+  } else {
+    auto file = sciray::io::read_legacy_vtk(path, opt.field);
+    if (auto* grid = std::get_if<sciray::io::UnstructuredGridFile>(&file)) return std::move(*grid);
+    if (auto* poly = std::get_if<sciray::io::PolyDataFile>(&file)) {
+      if (!opt.field.empty()) throw sciray::Error("--field: picks a volume's array; colour poly data with --color-by");
+      add_poly_data(std::move(*poly), opt, scene);
+    } else {
+      if (!opt.color_by.empty()) throw sciray::Error("--color-by: colours poly data; " + path + " holds image data");
+      scene.volume = std::move(std::get<sciray::io::VolumeFile>(file));
+    }
+  }
+  return std::nullopt;
+}
+
+}  // namespace sciray_tool
