@@ -198,7 +198,8 @@ def unstructured_sweep(build, tmp, smoke):
                        "range": value_range}, f)
         common = [path, "--size", size, "--tf", tf]
         reference_path = os.path.join(tmp, "unstructured_reference.pfm")
-        tool(build, *common, "--sampling-rate", str(reference_rate), "-o", reference_path)
+        # The same 3 accumulated frames (pixel jitter) as the sweep, so only the integration differs.
+        tool(build, *common, "--sampling-rate", str(reference_rate), "--frames", "3", "-o", reference_path)
         reference = read_pfm(reference_path)
 
         def measure(*extra):
