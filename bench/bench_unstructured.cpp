@@ -14,6 +14,7 @@
 
 #include "sciray/shim/engine.hpp"
 #include "sciray/testing/scenes.hpp"
+#include "sciray/testing/tetrahedra.hpp"
 
 namespace {
 
@@ -22,29 +23,7 @@ constexpr int lattice = 55;
 float field(const sciray::Vec3f& p) { return std::sin(0.3f * p.x) + std::sin(0.4f * p.y) * std::cos(0.2f * p.z); }
 
 std::shared_ptr<const sciray::Unstructured> tetrahedra() {
-  sciray::UnstructuredData d;
-  const auto at = [](int x, int y, int z) {
-    return static_cast<std::uint64_t>((z * (lattice + 1) + y) * (lattice + 1) + x);
-  };
-  for (int z = 0; z <= lattice; ++z)
-    for (int y = 0; y <= lattice; ++y)
-      for (int x = 0; x <= lattice; ++x) {
-        d.positions.push_back({static_cast<float>(x), static_cast<float>(y), static_cast<float>(z)});
-        d.vertex_values.push_back(field(d.positions.back()));
-      }
-  const int tets[6][4] = {{0, 1, 2, 6}, {0, 2, 3, 6}, {0, 3, 7, 6}, {0, 7, 4, 6}, {0, 4, 5, 6}, {0, 5, 1, 6}};
-  for (int z = 0; z < lattice; ++z)
-    for (int y = 0; y < lattice; ++y)
-      for (int x = 0; x < lattice; ++x) {
-        const std::uint64_t corner[8] = {at(x, y, z),     at(x + 1, y, z),     at(x + 1, y + 1, z),     at(x, y + 1, z),
-                                         at(x, y, z + 1), at(x + 1, y, z + 1), at(x + 1, y + 1, z + 1), at(x, y + 1, z + 1)};
-        for (const auto& t : tets) {
-          d.cell_index.push_back(d.index.size());
-          d.cell_type.push_back(static_cast<std::uint8_t>(sciray::CellType::tetrahedron));
-          for (int v : t) d.index.push_back(corner[v]);
-        }
-      }
-  return std::make_shared<const sciray::Unstructured>(std::move(d));
+  return std::make_shared<const sciray::Unstructured>(sciray::testing::tetrahedral_lattice(lattice, field));
 }
 
 /// Adds `model` to `world` (out of line: inlined into Scenes' constructor, g++ 12 warns

@@ -80,6 +80,7 @@ private:
   const Data& required_data(const char* id, std::initializer_list<OSPDataType> types, const char* what) const;
   /// An OSP_VOLUME_FILTER_* parameter.
   VolumeFilter filter_param(const char* id, VolumeFilter fallback) const;
+  EngineVolume commit_structured_regular(bool& zero_copy);
   EngineVolume commit_unstructured();
   EngineVolume commit_particle();
   EngineVolume commit_structured_spherical();

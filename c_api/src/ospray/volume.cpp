@@ -149,31 +149,29 @@ EngineVolume VolumeObject::commit_unstructured() {
 }
 
 void VolumeObject::on_commit() {
-  EngineVolume other;
-  if (subtype() == "unstructured")
-    other = commit_unstructured();
-  else if (subtype() == "particle")
-    other = commit_particle();
-  else if (subtype() == "structuredSpherical")
-    other = commit_structured_spherical();
-  else if (subtype() == "vdb")
-    other = commit_vdb();
-  else if (subtype() == "amr")
-    other = commit_amr();
-  if (!std::holds_alternative<std::monostate>(other)) {
-    bounds_ = std::visit(
-        [](const auto& v) -> Box3f {
-          if constexpr (std::is_same_v<std::decay_t<decltype(v)>, std::monostate>)
-            return {};
-          else
-            return v->bounds();
-        },
-        other);
-    volume_ = std::move(other);
-    zero_copy_ = false;
-    return;
-  }
-  // The factory creates no other types.
+  // Read into locals: a commit that fails leaves the volume as it was.
+  bool zero_copy = false;
+  EngineVolume volume = subtype() == "unstructured"          ? commit_unstructured()
+                        : subtype() == "particle"            ? commit_particle()
+                        : subtype() == "structuredSpherical" ? commit_structured_spherical()
+                        : subtype() == "vdb"                 ? commit_vdb()
+                        : subtype() == "amr"                 ? commit_amr()
+                                                             : commit_structured_regular(zero_copy);
+  bounds_ = std::visit(
+      [](const auto& v) -> Box3f {
+        if constexpr (std::is_same_v<std::decay_t<decltype(v)>, std::monostate>)
+          return {};
+        else
+          return v->bounds();
+      },
+      volume);
+  volume_ = std::move(volume);
+  zero_copy_ = zero_copy;
+}
+
+/// OSPRay's `structuredRegular` (the factory creates no other types than those above);
+/// `zero_copy` tells whether the engine volume reads the application's array in place.
+EngineVolume VolumeObject::commit_structured_regular(bool& zero_copy) {
   const std::string voxel_types = "uchar, short, ushort, float or double";
   const Param* p = find("data");
   if (!p || (!p->object && is_object_type(p->type)))  // absent, or set to NULL
@@ -214,8 +212,6 @@ void VolumeObject::on_commit() {
       throw Error(name() + ": parameter 'layout' has unknown value '" + layout->string + "' (linear, bricked)");
   }
 
-  // Read into locals: a commit that fails leaves the volume as it was.
-  bool zero_copy = false;
   EngineVolume volume;
   switch (type) {
     case OSP_UCHAR: volume = make_structured_regular<std::uint8_t>(*this, data, grid, filter, bricked, zero_copy); break;
@@ -226,16 +222,7 @@ void VolumeObject::on_commit() {
     case OSP_FLOAT: volume = make_structured_regular<float>(*this, data, grid, filter, bricked, zero_copy); break;
     default: volume = make_structured_regular<double>(*this, data, grid, filter, bricked, zero_copy); break;
   }
-  bounds_ = std::visit(
-      [](const auto& v) -> Box3f {
-        if constexpr (std::is_same_v<std::decay_t<decltype(v)>, std::monostate>)
-          return {};
-        else
-          return v->bounds();
-      },
-      volume);
-  volume_ = std::move(volume);
-  zero_copy_ = zero_copy;
+  return volume;
 }
 
 void TransferFunctionObject::on_commit() {

@@ -29,6 +29,7 @@
 #include "sciray/math/box.hpp"
 #include "sciray/math/vec.hpp"
 #include "sciray/simd/packet.hpp"
+#include "sciray/volume/lane_by_lane.hpp"
 #include "sciray/volume/macrocells.hpp"
 
 namespace sciray {
@@ -82,18 +83,7 @@ public:
   const Vec3f& cell_size() const { return cell_size_; }
 
   /// Macrocells of about n finest cells a side over the volume's box, at most 128 a side.
-  MacrocellGrid macrocell_grid(std::int64_t n) const {
-    MacrocellGrid m;
-    m.lower = bounds_.lower;
-    for (int k = 0; k < 3; ++k) {
-      const float extent = bounds_.upper[k] - bounds_.lower[k];
-      const float cells = std::ceil(extent / (static_cast<float>(n) * cell_size_.x));
-      m.counts[k] = std::clamp<std::int64_t>(static_cast<std::int64_t>(cells), 1, 128);
-      const float size = extent / static_cast<float>(m.counts[k]);
-      (k == 0 ? m.size.x : k == 1 ? m.size.y : m.size.z) = size > 0.f ? size : 1.f;
-    }
-    return m;
-  }
+  MacrocellGrid macrocell_grid(std::int64_t n) const { return MacrocellGrid::over(bounds(), cell_size_.x, n); }
   /// Widens the ranges of `m` by every cell of every block over the macrocells within one
   /// of its cells of it: a cell's value reaches samples at most one dual cell away, whose
   /// width is never above the cell's own (see corner_value).
@@ -140,14 +130,7 @@ public:
   }
   template <class Arch>
   simd::Float<Arch> sample(const Vec3<simd::Float<Arch>>& p) const {
-    if constexpr (std::is_same_v<Arch, simd::scalar>) {
-      return sample(p);
-    } else {
-      constexpr int W = simd::width<Arch>;
-      alignas(64) float out[W];
-      for (int i = 0; i < W; ++i) out[i] = sample(Vec3f{simd::lane(p.x, i), simd::lane(p.y, i), simd::lane(p.z, i)});
-      return simd::load<Arch>(out);
-    }
+    return scalar_per_lane<Arch>(p, [this](const Vec3f& q) { return sample(q); });
   }
 
   /// The interpolant's own gradient in object space (analytic within the dual cell; 0 along
@@ -173,17 +156,7 @@ public:
   }
   template <class Arch>
   Vec3<simd::Float<Arch>> gradient(const Vec3<simd::Float<Arch>>& p) const {
-    if constexpr (std::is_same_v<Arch, simd::scalar>) {
-      return gradient(p);
-    } else {
-      constexpr int W = simd::width<Arch>;
-      alignas(64) float out[3][W];
-      for (int i = 0; i < W; ++i) {
-        const Vec3f g = gradient(Vec3f{simd::lane(p.x, i), simd::lane(p.y, i), simd::lane(p.z, i)});
-        out[0][i] = g.x, out[1][i] = g.y, out[2][i] = g.z;
-      }
-      return {simd::load<Arch>(out[0]), simd::load<Arch>(out[1]), simd::load<Arch>(out[2])};
-    }
+    return vector_per_lane<Arch>(p, [this](const Vec3f& q) { return gradient(q); });
   }
   template <class Arch>
   Vec3<simd::Float<Arch>> shading_gradient(const Vec3<simd::Float<Arch>>& p) const {

@@ -4,7 +4,9 @@
 // of them along each axis, each holding the range of values a sample inside it can take.
 // Each volume type lays the grid over its own cells and widens the ranges by its values
 // (StructuredRegular: 8³ voxels; Unstructured: its cells' boxes).
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
@@ -20,6 +22,22 @@ struct MacrocellGrid {
   Vec3f lower{0.f, 0.f, 0.f};  ///< where macrocell (0, 0, 0) starts
   Vec3f size{1.f, 1.f, 1.f};   ///< one macrocell's extent
   std::array<std::int64_t, 3> counts{1, 1, 1};
+
+  /// Macrocells of about n cells of side `cell` a side over `box`, at most 128 a side: the
+  /// grid of the volume types whose own cells are not a grid (StructuredRegular lays it
+  /// over its voxels).
+  static MacrocellGrid over(const Box3f& box, float cell, std::int64_t n) {
+    MacrocellGrid m;
+    m.lower = box.lower;
+    for (int k = 0; k < 3; ++k) {
+      const float extent = box.upper[k] - box.lower[k];
+      const float cells = std::ceil(extent / (static_cast<float>(n) * cell));
+      m.counts[k] = std::clamp<std::int64_t>(static_cast<std::int64_t>(cells), 1, 128);
+      const float size = extent / static_cast<float>(m.counts[k]);
+      (k == 0 ? m.size.x : k == 1 ? m.size.y : m.size.z) = size > 0.f ? size : 1.f;
+    }
+    return m;
+  }
 
   std::size_t count() const {
     return static_cast<std::size_t>(counts[0]) * static_cast<std::size_t>(counts[1]) *

@@ -32,6 +32,7 @@
 #include "sciray/math/box.hpp"
 #include "sciray/math/vec.hpp"
 #include "sciray/simd/packet.hpp"
+#include "sciray/volume/lane_by_lane.hpp"
 #include "sciray/volume/macrocells.hpp"
 
 namespace sciray {
@@ -74,19 +75,7 @@ public:
   const Vec3f& cell_size() const { return cell_size_; }
 
   /// Macrocells of about n typical cells a side over the volume's box, at most 128 a side.
-  MacrocellGrid macrocell_grid(std::int64_t n) const {
-    MacrocellGrid m;
-    const Box3f box = bounds();
-    m.lower = box.lower;
-    for (int k = 0; k < 3; ++k) {
-      const float extent = box.upper[k] - box.lower[k];
-      const float cells = std::ceil(extent / (static_cast<float>(n) * cell_size_.x));
-      m.counts[k] = std::clamp<std::int64_t>(static_cast<std::int64_t>(cells), 1, 128);
-      const float size = extent / static_cast<float>(m.counts[k]);
-      (k == 0 ? m.size.x : k == 1 ? m.size.y : m.size.z) = size > 0.f ? size : 1.f;
-    }
-    return m;
-  }
+  MacrocellGrid macrocell_grid(std::int64_t n) const { return MacrocellGrid::over(bounds(), cell_size_.x, n); }
 
   /// Widens every macrocell's range by the field's bounds over it: each kernel lies
   /// between its values at the macrocell's nearest and farthest points (0 where those
@@ -147,14 +136,7 @@ public:
   }
   template <class Arch>
   simd::Float<Arch> sample(const Vec3<simd::Float<Arch>>& p) const {
-    if constexpr (std::is_same_v<Arch, simd::scalar>) {
-      return sample(p);
-    } else {
-      constexpr int W = simd::width<Arch>;
-      alignas(64) float out[W];
-      for (int i = 0; i < W; ++i) out[i] = sample(Vec3f{simd::lane(p.x, i), simd::lane(p.y, i), simd::lane(p.z, i)});
-      return simd::load<Arch>(out);
-    }
+    return scalar_per_lane<Arch>(p, [this](const Vec3f& q) { return sample(q); });
   }
 
   /// The analytic gradient: Σ −(x − p_i)/r_i² · w_i exp(−|x − p_i|²/(2 r_i²)) over the
@@ -169,17 +151,7 @@ public:
   }
   template <class Arch>
   Vec3<simd::Float<Arch>> gradient(const Vec3<simd::Float<Arch>>& p) const {
-    if constexpr (std::is_same_v<Arch, simd::scalar>) {
-      return gradient(p);
-    } else {
-      constexpr int W = simd::width<Arch>;
-      alignas(64) float gx[W], gy[W], gz[W];
-      for (int i = 0; i < W; ++i) {
-        const Vec3f g = gradient(Vec3f{simd::lane(p.x, i), simd::lane(p.y, i), simd::lane(p.z, i)});
-        gx[i] = g.x, gy[i] = g.y, gz[i] = g.z;
-      }
-      return {simd::load<Arch>(gx), simd::load<Arch>(gy), simd::load<Arch>(gz)};
-    }
+    return vector_per_lane<Arch>(p, [this](const Vec3f& q) { return gradient(q); });
   }
   template <class Arch>
   Vec3<simd::Float<Arch>> shading_gradient(const Vec3<simd::Float<Arch>>& p) const {

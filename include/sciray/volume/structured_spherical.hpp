@@ -65,18 +65,7 @@ public:
   const Vec3f& cell_size() const { return cell_size_; }
 
   /// Macrocells of about n typical cells a side over bounds(), at most 128 a side.
-  MacrocellGrid macrocell_grid(std::int64_t n) const {
-    MacrocellGrid m;
-    m.lower = bounds_.lower;
-    for (int k = 0; k < 3; ++k) {
-      const float extent = bounds_.upper[k] - bounds_.lower[k];
-      const float cells = std::ceil(extent / (static_cast<float>(n) * cell_size_.x));
-      m.counts[k] = std::clamp<std::int64_t>(static_cast<std::int64_t>(cells), 1, 128);
-      const float size = extent / static_cast<float>(m.counts[k]);
-      (k == 0 ? m.size.x : k == 1 ? m.size.y : m.size.z) = size > 0.f ? size : 1.f;
-    }
-    return m;
-  }
+  MacrocellGrid macrocell_grid(std::int64_t n) const { return MacrocellGrid::over(bounds(), cell_size_.x, n); }
   /// Widens the ranges of `m` by every spherical cell's corner values over the macrocells
   /// its Cartesian box overlaps. The box is exact (r, sin θ, cos θ, sin φ, cos φ each take
   /// their extremes over the cell independently: at its ends, or where an angle passes a

@@ -24,6 +24,7 @@
 #include "sciray/math/box.hpp"
 #include "sciray/math/vec.hpp"
 #include "sciray/simd/packet.hpp"
+#include "sciray/volume/lane_by_lane.hpp"
 #include "sciray/volume/macrocells.hpp"
 
 namespace sciray {
@@ -102,19 +103,7 @@ public:
   const Vec3f& cell_size() const { return cell_size_; }
 
   /// Macrocells of about n typical cells a side over the volume's box, at most 128 a side.
-  MacrocellGrid macrocell_grid(std::int64_t n) const {
-    MacrocellGrid m;
-    const Box3f box = bounds();
-    m.lower = box.lower;
-    for (int k = 0; k < 3; ++k) {
-      const float extent = box.upper[k] - box.lower[k];
-      const float cells = std::ceil(extent / (static_cast<float>(n) * cell_size_.x));
-      m.counts[k] = std::clamp<std::int64_t>(static_cast<std::int64_t>(cells), 1, 128);
-      const float size = extent / static_cast<float>(m.counts[k]);
-      (k == 0 ? m.size.x : k == 1 ? m.size.y : m.size.z) = size > 0.f ? size : 1.f;
-    }
-    return m;
-  }
+  MacrocellGrid macrocell_grid(std::int64_t n) const { return MacrocellGrid::over(bounds(), cell_size_.x, n); }
   /// Widens the ranges of `m` by every cell's values over the macrocells its box overlaps
   /// (inside a cell the interpolant stays within its vertices' values).
   void widen_macrocell_ranges(const MacrocellGrid& m, std::int64_t, std::vector<float>& ranges) const {
@@ -131,14 +120,7 @@ public:
   }
   template <class Arch>
   simd::Float<Arch> sample(const Vec3<simd::Float<Arch>>& p) const {
-    if constexpr (std::is_same_v<Arch, simd::scalar>) {
-      return sample(p);
-    } else {
-      constexpr int W = simd::width<Arch>;
-      alignas(64) float out[W];
-      for (int i = 0; i < W; ++i) out[i] = sample(Vec3f{simd::lane(p.x, i), simd::lane(p.y, i), simd::lane(p.z, i)});
-      return simd::load<Arch>(out);
-    }
+    return scalar_per_lane<Arch>(p, [this](const Vec3f& q) { return sample(q); });
   }
 
   /// sample() along the rays of one packet: each lane first tries the cell of its last

@@ -32,6 +32,7 @@
 #include "sciray/math/box.hpp"
 #include "sciray/math/vec.hpp"
 #include "sciray/simd/packet.hpp"
+#include "sciray/volume/lane_by_lane.hpp"
 #include "sciray/volume/macrocells.hpp"
 #include "sciray/volume/structured_regular.hpp"  // VolumeFilter
 
@@ -83,18 +84,7 @@ public:
   VolumeFilter filter() const { return filter_; }
 
   /// Macrocells of about n voxels a side over the volume's box, at most 128 a side.
-  MacrocellGrid macrocell_grid(std::int64_t n) const {
-    MacrocellGrid m;
-    m.lower = bounds_.lower;
-    for (int k = 0; k < 3; ++k) {
-      const float extent = bounds_.upper[k] - bounds_.lower[k];
-      const float cells = std::ceil(extent / (static_cast<float>(n) * cell_size_.x));
-      m.counts[k] = std::clamp<std::int64_t>(static_cast<std::int64_t>(cells), 1, 128);
-      const float size = extent / static_cast<float>(m.counts[k]);
-      (k == 0 ? m.size.x : k == 1 ? m.size.y : m.size.z) = size > 0.f ? size : 1.f;
-    }
-    return m;
-  }
+  MacrocellGrid macrocell_grid(std::int64_t n) const { return MacrocellGrid::over(bounds(), cell_size_.x, n); }
   /// Widens the ranges of `m` by every value a sample can read, over the index boxes of
   /// the samples that read it, a voxel wider on each side (trilinear reads voxels up to
   /// one below; one more for rounding): each node's values, 0 over the domain's gaps, the
@@ -163,11 +153,8 @@ public:
   /// single rays see the same values bit for bit; neighbouring lanes share a leaf lookup.
   template <class Arch>
   simd::Float<Arch> sample(const Vec3<simd::Float<Arch>>& p) const {
-    alignas(64) float out[simd::width<Arch>];
     Cache cache;
-    for (int i = 0; i < simd::width<Arch>; ++i)
-      out[i] = sample(Vec3f{simd::lane(p.x, i), simd::lane(p.y, i), simd::lane(p.z, i)}, cache);
-    return simd::load<Arch>(out);
+    return scalar_per_lane<Arch>(p, [&](const Vec3f& q) { return sample(q, cache); });
   }
 
   /// Open VKL's gradient: with a linear gradientFilter the trilinear interpolant's own
@@ -191,12 +178,7 @@ public:
   }
   template <class Arch>
   Vec3<simd::Float<Arch>> gradient(const Vec3<simd::Float<Arch>>& p) const {
-    alignas(64) float out[3][simd::width<Arch>];
-    for (int i = 0; i < simd::width<Arch>; ++i) {
-      const Vec3f g = gradient(Vec3f{simd::lane(p.x, i), simd::lane(p.y, i), simd::lane(p.z, i)});
-      out[0][i] = g.x, out[1][i] = g.y, out[2][i] = g.z;
-    }
-    return {simd::load<Arch>(out[0]), simd::load<Arch>(out[1]), simd::load<Arch>(out[2])};
+    return vector_per_lane<Arch>(p, [this](const Vec3f& q) { return gradient(q); });
   }
   template <class Arch>
   Vec3<simd::Float<Arch>> shading_gradient(const Vec3<simd::Float<Arch>>& p) const {
