@@ -5,6 +5,7 @@ find_dependency(embree 3)
 find_dependency(TBB)
 find_dependency(ZLIB)  # gzip-encoded NRRD volumes (io/volume.hpp), compressed VTK arrays (io/vtk.hpp)
 find_dependency(pugixml)  # VTK's XML formats (io/vtk.hpp)
+find_dependency(tinyobjloader)  # Wavefront OBJ (io/obj.hpp); Debian's is a float build, version "2rc10"
 
 if(NOT TARGET sciray::xsimd)
   # Header-only; Debian's xsimd CMake target links a non-existent "xtl" library, so use

@@ -8,7 +8,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 packages=(build-essential cmake pkg-config libembree-dev libxsimd-dev libtbb-dev libstb-dev catch2
-          libbenchmark-dev nlohmann-json3-dev libcli11-dev libglm-dev zlib1g-dev libpugixml-dev python3
+          libbenchmark-dev nlohmann-json3-dev libcli11-dev libglm-dev zlib1g-dev libpugixml-dev libtinyobjloader-dev python3
           python3-matplotlib python3-numpy libopenmpi-dev openmpi-bin)
 missing=()
 for p in "${packages[@]}"; do

@@ -1,10 +1,11 @@
 // The `sciray` command-line tool: renders meshes, molecules (or a built-in scene) to
 // images and reports what the work cost.
 //   sciray info
-//   sciray render [MESH.ply|MOLECULE.pdb|VOLUME.raw|VOLUME.nrrd|VTK.vtu|.vti|.vtp|.vtk|builtin:NAME]
+//   sciray render [MESH.ply|SCENE.obj|POINTS.ply|.xyz|.xyzr|.f32xyzr|MOLECULE.pdb|VOLUME.raw|VOLUME.nrrd|
+//                  VTK.vtu|.vti|.vtp|.vtk|builtin:NAME]
 //                 [--field NAME] [--color-by NAME] [--radius R] [--camera cam.json] [--size WxH]
 //                 [--isa auto|avx512|avx2|sse4.2|scalar] [--threads N] [--frames N]
-//                 [-o out.png|out.pfm] [--depth depth.pfm] [--json]
+//                 [-o out.png|out.pfm] [--depth depth.pfm] [--json] [--quiet]
 //                 [--style ball-and-stick|space-filling] [--sphere-intersector sciray|embree]
 //                 [--clip-plane a,b,c,d]... [--clip-sphere x,y,z,r]...
 //                 [--tf tf.json] [--layout linear|bricked] [--density D] [--anisotropy G] [--sampling-rate R] [--gradient-shading S]
@@ -32,9 +33,12 @@
 
 #include "sciray/geometry/molecule.hpp"
 #include "sciray/io/frame_io.hpp"
+#include "sciray/io/obj.hpp"
 #include "sciray/io/ply.hpp"
+#include "sciray/io/points.hpp"
 #include "sciray/shim/engine.hpp"
 #include "sciray/testing/scenes.hpp"
+#include "progress.hpp"
 #include "shading_json.hpp"
 #include "volume_scene.hpp"
 #include "vtk_scene.hpp"
@@ -113,6 +117,7 @@ struct RenderOptions {
   bool preintegration = false;
   std::string color_by;  // VTK poly data: the array that colours it
   float radius = 0.f;    // VTK point clouds: the spheres' radius (0: from their spacing)
+  bool quiet = false;  // no progress line
   bool adaptive_sampling = false;
   std::string renderer = "scivis";
   int pixel_samples = 1;
@@ -244,10 +249,13 @@ int render(const RenderOptions& opt) {
   nlohmann::json report;
   tbb::task_arena arena(threads);
   arena.execute([&] {
+    std::optional<sciray_tool::ProgressLine> progress(std::in_place, !opt.quiet);
+    if (!opt.mesh.empty()) progress->stage("loading " + std::filesystem::path(opt.mesh).filename().string());
     auto start = Clock::now();
     // "builtin:NAME" is a standard scene (testing/scenes.hpp), .pdb a molecule, otherwise
     // a PLY mesh; nothing, the default scene.
     sciray::testing::StandardScene scene;
+    std::optional<sciray::io::ObjScene> obj;
     if (opt.mesh.empty()) {
       scene.mesh = sciray::testing::wavy_torus(400'000);
     } else if (opt.mesh.rfind("builtin:", 0) == 0) {
@@ -256,12 +264,24 @@ int render(const RenderOptions& opt) {
       auto molecule = sciray::molecule_geometry(sciray::io::read_pdb(opt.mesh), sciray::parse_molecule_style(opt.style));
       scene.spheres = std::move(molecule.atoms);
       scene.curves = std::move(molecule.bonds);
+    } else if (std::filesystem::path(opt.mesh).extension() == ".obj") {
+      obj = sciray::io::read_obj(opt.mesh);
+      for (const auto& warning : obj->warnings) std::cerr << "sciray: warning: " << warning << '\n';
+    } else if (sciray::io::is_point_cloud_file(opt.mesh)) {
+      // Particles (a PLY of vertices only, .xyz, .xyzr, .f32xyzr): spheres, coloured by a
+      // property, or by the file's own colours where it has them and none is asked for.
+      sciray::io::PointOptions points;
+      points.radius = opt.radius;
+      points.color_by = opt.color_by;
+      sciray::io::PointCloud cloud = sciray::io::read_points(opt.mesh, points);
+      points.file_colors = opt.color_by.empty() && cloud.find("red") != nullptr;
+      scene.spheres = sciray::io::to_spheres(std::move(cloud), points, sciray::testing::colormap);
     } else if (!is_volume_file(opt.mesh) && !sciray_tool::is_vtk_file(opt.mesh)) {
       scene.mesh = sciray::io::read_ply(opt.mesh, {opt.texcoord_from});
     }
     if (!opt.texcoord_from.empty() &&
         (opt.mesh.empty() || opt.mesh.rfind("builtin:", 0) == 0 || std::filesystem::path(opt.mesh).extension() == ".pdb" ||
-         is_volume_file(opt.mesh) || sciray_tool::is_vtk_file(opt.mesh)))
+         is_volume_file(opt.mesh) || sciray_tool::is_vtk_file(opt.mesh) || obj))
       throw sciray::Error("--texcoord-from: needs a PLY mesh, whose vertex property it reads");
 
     sciray::accel::Device device;
@@ -270,8 +290,9 @@ int render(const RenderOptions& opt) {
     const bool vtk = sciray_tool::is_vtk_file(opt.mesh);
     if (!opt.volume.field.empty() && !vtk)
       throw sciray::Error("--field: needs a VTK file (.vtu, .vti, .vtk), whose array it picks");
-    if (!vtk && (!opt.color_by.empty() || opt.radius != 0.f))
-      throw sciray::Error("--color-by and --radius: apply to VTK poly data (.vtp, .vtk)");
+    if (!vtk && !sciray::io::is_point_cloud_file(opt.mesh) && (!opt.color_by.empty() || opt.radius != 0.f))
+      throw sciray::Error("--color-by and --radius: apply to point clouds (PLY without faces, .xyz, .xyzr, .f32xyzr) "
+                          "and VTK poly data (.vtp, .vtk)");
     if (vtk) {
       if (auto grid = sciray_tool::load_vtk(opt.mesh, {opt.volume.field, opt.color_by, opt.radius}, scene))
         volume = sciray_tool::add_unstructured(world, *grid, opt.mesh, opt.volume);
@@ -310,6 +331,20 @@ int render(const RenderOptions& opt) {
       triangles = mesh.triangle_count(), vertices = mesh.vertex_count();
       target.add(std::move(mesh), next_material());
     }
+    if (obj) {
+      // A mesh per group and material, shaded by the .mtl's materials, unless --material
+      // overrides them (then the k-th mesh takes the k-th, as for any geometry).
+      const bool own = opt.materials.empty();
+      const auto offset = static_cast<std::uint32_t>(materials.size());
+      if (own) materials.insert(materials.end(), obj->materials.begin(), obj->materials.end());
+      for (auto& part : obj->meshes) {
+        sciray::TriangleMesh mesh(std::move(part.mesh));
+        triangles += mesh.triangle_count(), vertices += mesh.vertex_count();
+        target.add(std::move(mesh), !own                                  ? next_material()
+                                    : part.material == sciray::no_material ? sciray::no_material
+                                                                           : offset + part.material);
+      }
+    }
     if (scene.spheres) {
       spheres = scene.spheres->count();
       target.add(sciray::Spheres(std::move(*scene.spheres)).set_intersector(parse_intersector(opt.sphere_intersector)),
@@ -334,6 +369,7 @@ int render(const RenderOptions& opt) {
       }
       world.set_clipping(clipping);
     }
+    progress->stage("building the BVH");
     start = Clock::now();
     kernels.commit(world);
     const double build_ms = ms_since(start);
@@ -372,6 +408,7 @@ int render(const RenderOptions& opt) {
                                sciray::channel_variance);
     if (opt.tonemap) fb.set_image_operations({sciray::Tonemapper()});
     std::vector<double> frame_ms;
+    progress->start_frames(opt.frames, opt.error_target);
     // With an error target, frames stop once the frame buffer's estimate meets it.
     for (int f = 0;; ++f) {
       bool another = f < opt.frames && !(opt.error_target > 0.f && fb.variance() <= opt.error_target);
@@ -385,9 +422,11 @@ int render(const RenderOptions& opt) {
         mpi->render(kernels, world, config, camera, fb, settings);
       else
 #endif
-        kernels.render(world, config, camera, fb, nullptr, settings);
+        kernels.render(world, config, camera, fb, progress->control(), settings);
       frame_ms.push_back(ms_since(start));
+      progress->frame_done(fb.variance());
     }
+    progress.reset();  // the line is cleared before anything else is written
 #ifdef SCIRAY_TOOL_MPI
     if (mpi && !mpi->writes_outputs()) return;
 #endif
@@ -466,7 +505,7 @@ int main(int argc, char** argv) {
   RenderOptions opt;
   auto* render_cmd = app.add_subcommand("render", "Render a mesh (or the built-in scene) to an image");
   render_cmd->add_option("mesh", opt.mesh,
-                         "PLY mesh, PDB molecule, raw/NRRD volume, VTK file (.vtu unstructured grid, .vti image, .vtp poly data, legacy .vtk), or builtin:NAME (torus_1M, cornell_box, spheres_1M, streamlines, bunny, "
+                         "PLY mesh, Wavefront OBJ scene (.obj with its .mtl), point cloud (PLY without faces, .xyz, .xyzr, .f32xyzr), PDB molecule, raw/NRRD volume, VTK file (.vtu unstructured grid, .vti image, .vtp poly data, legacy .vtk), or builtin:NAME (torus_1M, cornell_box, spheres_1M, streamlines, bunny, "
                          "...); "
                          "without it, the default scene");
   render_cmd->add_option("--camera", opt.camera, "camera JSON {position, look_at, up, fovy}");
@@ -477,15 +516,18 @@ int main(int argc, char** argv) {
   render_cmd->add_option("-o,--output", opt.output, "output image (.png, or .pfm for float colour)");
   render_cmd->add_option("--depth", opt.depth, "also write Euclidean depth to this .pfm");
   render_cmd->add_flag("--json", opt.json, "print timings and sizes as one JSON object");
+  render_cmd->add_flag("--quiet", opt.quiet,
+                       "no progress line (shown on stderr while loading, building and rendering, on a terminal only)");
   render_cmd->add_flag("--mpi", opt.mpi,
                        "image-parallel over the ranks of an MPI job (mpirun -n 3 sciray render ... --mpi): rank 0 "
                        "writes the outputs, the others render tiles");
   render_cmd->add_option("--style", opt.style, "molecules: ball-and-stick or space-filling");
   render_cmd->add_option("--tf", opt.volume.tf, "volumes: transfer function JSON {colors, opacities, range}");
   render_cmd->add_option("--color-by", opt.color_by,
-                         "VTK poly data (.vtp, .vtk): colour by this point or cell array through the colour map");
+                         "point clouds and VTK poly data: colour by this property or array through the colour map");
   render_cmd->add_option("--radius", opt.radius,
-                         "VTK poly data of points only: the spheres' radius (default: a fifth of their mean spacing)");
+                         "point clouds: the spheres' radius where the file gives none (default: a fifth of their "
+                         "mean spacing)");
   render_cmd->add_option("--field", opt.volume.field,
                          ".vtu, .vti, legacy .vtk volumes: the point or cell array to render (vectors by magnitude; default: its Scalars array)");
   render_cmd->add_option("--layout", opt.volume.layout, "volumes: linear (in place) or bricked");

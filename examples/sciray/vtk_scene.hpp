@@ -4,12 +4,14 @@
 // point cloud of spheres — coloured by an array through the colour map, and an
 // unstructured grid (.vtu, legacy) an unstructured volume (volume_scene.hpp).
 #include <cmath>
+#include <utility>
 #include <filesystem>
 #include <optional>
 #include <string>
 #include <variant>
 
 #include "sciray/error.hpp"
+#include "sciray/io/points.hpp"
 #include "sciray/io/vtk.hpp"
 #include "sciray/io/vtk_image.hpp"
 #include "sciray/io/vtk_legacy.hpp"
@@ -36,20 +38,14 @@ inline void add_poly_data(sciray::io::PolyDataFile poly, const VtkOptions& opt, 
     scene.mesh = std::move(poly.mesh);
     return;
   }
-  sciray::SphereData spheres;
-  spheres.positions = std::move(poly.mesh.positions);
-  spheres.colors = std::move(poly.mesh.vertex_colors);
   if (!(opt.radius >= 0.f) || !std::isfinite(opt.radius)) throw sciray::Error("--radius must be finite and positive");
-  spheres.radius = opt.radius;
-  if (spheres.radius == 0.f) {
-    // A fifth of the mean spacing the points would have filling their box evenly.
-    sciray::Box3f box;
-    for (std::size_t i = 0; i + 2 < spheres.positions.size(); i += 3)
-      box.extend({spheres.positions[i], spheres.positions[i + 1], spheres.positions[i + 2]});
-    const sciray::Vec3f size = box.upper - box.lower;
-    const float volume = std::max(size.x, 1e-6f) * std::max(size.y, 1e-6f) * std::max(size.z, 1e-6f);
-    spheres.radius = 0.2f * std::cbrt(volume / static_cast<float>(std::max<std::size_t>(spheres.count(), 1)));
-  }
+  sciray::io::PointCloud cloud;
+  cloud.source = poly.source;
+  cloud.positions = std::move(poly.mesh.positions);
+  sciray::SphereData spheres;
+  spheres.radius = opt.radius > 0.f ? opt.radius : sciray::io::default_radius(cloud);
+  spheres.positions = std::move(cloud.positions);
+  spheres.colors = std::move(poly.mesh.vertex_colors);
   scene.spheres = std::move(spheres);
 }
 

@@ -488,3 +488,88 @@ TEST_CASE("sciray render: VTK image data, poly data and point clouds", "[tool][v
   CHECK(missing.exit_code != 0);
   CHECK_THAT(missing.output, Catch::Contains("height"));  // the arrays it has
 }
+
+TEST_CASE("sciray render: a progress line on a terminal only, and not with --quiet", "[tool][progress]") {
+  // `script` (util-linux) runs the tool on a pseudo-terminal: stderr is a terminal there.
+  const std::string render = std::string(SCIRAY_TOOL) +
+                             " render builtin:cornell_box --renderer pathtracer --size 256x256 --frames 24 -o " +
+                             scratch("progress.png").string();
+  const auto on_terminal = [](const std::string& command) {
+    const std::string wrapped = "script -qec '" + command + "' /dev/null 2>&1";
+    FILE* pipe = popen(wrapped.c_str(), "r");
+    REQUIRE(pipe);
+    std::string output;
+    std::array<char, 4096> buffer;
+    while (const std::size_t n = std::fread(buffer.data(), 1, buffer.size(), pipe)) output.append(buffer.data(), n);
+    CHECK(pclose(pipe) == 0);
+    return output;
+  };
+  const std::string shown = on_terminal(render);
+  INFO(shown);
+  CHECK_THAT(shown, Catch::Contains("/24 ["));
+  CHECK_THAT(shown, Catch::Contains(" left"));
+  CHECK(on_terminal(render + " --quiet").find("/24 [") == std::string::npos);
+  // Piped (not a terminal), as run_tool runs it: nothing.
+  const Run piped = run_tool(render.substr(std::string(SCIRAY_TOOL).size() + 1));
+  CHECK(piped.exit_code == 0);
+  CHECK(piped.output.find("/24 [") == std::string::npos);
+}
+
+TEST_CASE("sciray render: particles from a PLY of vertices only and from .xyzr text, as spheres", "[tool][points]") {
+  // 1,000 particles on a helix with a radius and a temperature each.
+  const auto ply = scratch("particles.ply");
+  {
+    std::ofstream f(ply);
+    f << "ply\nformat ascii 1.0\nelement vertex 1000\nproperty float x\nproperty float y\nproperty float z\n"
+         "property float radius\nproperty float temperature\nend_header\n";
+    for (int i = 0; i < 1000; ++i)
+      f << std::cos(0.05 * i) << ' ' << std::sin(0.05 * i) << ' ' << 0.002 * i << ' ' << 0.02 << ' ' << i << '\n';
+  }
+  const auto png = scratch("particles.png");
+  const Run run = run_tool("render " + ply.string() + " --color-by temperature --size 64x48 --json -o " + png.string());
+  INFO(run.output);
+  REQUIRE(run.exit_code == 0);
+  const auto report = nlohmann::json::parse(run.output);
+  CHECK(report["spheres"] == 1000);
+  CHECK(report["triangles"] == 0);
+  const sciray::io::Image image = sciray::io::read_image(png.string());
+  int covered = 0;
+  for (int y = 0; y < image.height; ++y)
+    for (int x = 0; x < image.width; ++x) covered += std::abs(image.at(x, y, 1) - image.at(0, 0, 1)) > 0.01f;
+  CHECK(covered > 100);
+
+  const auto xyzr = scratch("particles.xyzr");
+  std::ofstream(xyzr) << "# x y z r\n0 0 0 0.5\n1 0 0 0.25\n";
+  const Run text = run_tool("render " + xyzr.string() + " --size 32x32 --json -o " + png.string());
+  INFO(text.output);
+  REQUIRE(text.exit_code == 0);
+  CHECK(nlohmann::json::parse(text.output)["spheres"] == 2);
+  const Run missing = run_tool("render " + ply.string() + " --color-by pressure -o " + png.string());
+  CHECK(missing.exit_code != 0);
+  CHECK_THAT(missing.output, Catch::Contains("temperature"));  // the properties it has
+}
+
+TEST_CASE("sciray render: a Wavefront OBJ scene with its materials", "[tool][obj]") {
+  // Two quads in two groups, each with a material of its own from the .mtl: red and blue.
+  const auto dir = scratch("obj");
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir / "two.mtl") << "newmtl red\nKd 1 0 0\nnewmtl blue\nKd 0 0 1\n";
+  std::ofstream(dir / "two.obj") << "mtllib two.mtl\nv -1 -1 0\nv 0 -1 0\nv 0 1 0\nv -1 1 0\nv 1 -1 0\nv 1 1 0\n"
+                                    "g left\nusemtl red\nf 1 2 3 4\ng right\nusemtl blue\nf 2 5 6 3\n";
+  const auto png = scratch("two.png");
+  const Run run = run_tool("render " + (dir / "two.obj").string() + " --size 64x32 --json -o " + png.string());
+  INFO(run.output);
+  REQUIRE(run.exit_code == 0);
+  CHECK(nlohmann::json::parse(run.output)["triangles"] == 4);
+  // The camera frames the two quads in the middle third of the image: one side red, the
+  // other blue.
+  const sciray::io::Image image = sciray::io::read_image(png.string());
+  const auto reddish = [&](int x) { return image.at(x, 16, 0) > 2.f * image.at(x, 16, 2); };
+  const auto bluish = [&](int x) { return image.at(x, 16, 2) > 2.f * image.at(x, 16, 0); };
+  CHECK((reddish(26) && bluish(38)) != (bluish(26) && reddish(38)));
+  // A face that refers to a vertex the file lacks is named.
+  std::ofstream(dir / "bad.obj") << "v 0 0 0\nv 1 0 0\nf 1 2 3\n";
+  const Run bad = run_tool("render " + (dir / "bad.obj").string() + " -o " + png.string());
+  CHECK(bad.exit_code != 0);
+  CHECK_THAT(bad.output, Catch::Contains("bad.obj"));
+}
