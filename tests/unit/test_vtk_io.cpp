@@ -3,43 +3,21 @@
 // the same grid; the real finite-element files of the shared data; bad files named.
 #include <catch2/catch.hpp>
 
-#include <algorithm>
 #include <cstdint>
-#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <functional>
 #include <string>
 #include <vector>
 
-#include <zlib.h>
 
 #include "sciray/io/vtk.hpp"
+#include "support/vtk_xml_writer.hpp"
 
 using namespace sciray;
+using namespace sciray_test;
 
 namespace {
-
-std::string base64(const std::vector<std::uint8_t>& bytes) {
-  static const char* table = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-  std::string out;
-  for (std::size_t i = 0; i < bytes.size(); i += 3) {
-    const std::uint32_t b = static_cast<std::uint32_t>(bytes[i]) << 16 |
-                            (i + 1 < bytes.size() ? static_cast<std::uint32_t>(bytes[i + 1]) << 8 : 0u) |
-                            (i + 2 < bytes.size() ? bytes[i + 2] : 0u);
-    out += table[b >> 18 & 63];
-    out += table[b >> 12 & 63];
-    out += i + 1 < bytes.size() ? table[b >> 6 & 63] : '=';
-    out += i + 2 < bytes.size() ? table[b & 63] : '=';
-  }
-  return out;
-}
-
-/// How a test file encodes its arrays.
-struct Encoding {
-  std::string format;  // ascii, binary, appended
-  bool appended_base64 = false, compressed = false, header64 = false, big_endian = false;
-};
 
 /// A grid of one hexahedron and one tetrahedron on top of it, a point array "T" = z and a
 /// vector cell array "v", written as VTK would with `e`.
@@ -50,67 +28,15 @@ std::string vtu_text(const Encoding& e) {
   std::vector<double> t;
   for (std::size_t i = 2; i < points.size(); i += 3) t.push_back(points[i]);
   const std::vector<double> v = {3, 4, 0, 0, 0, 2};
-  std::string appended;
-  const auto bytes_of = [&](const auto& values) {
-    using T = typename std::decay_t<decltype(values)>::value_type;
-    std::vector<std::uint8_t> raw(values.size() * sizeof(T));
-    std::memcpy(raw.data(), values.data(), raw.size());
-    if (e.big_endian)
-      for (std::size_t i = 0; i < raw.size(); i += sizeof(T)) std::reverse(raw.begin() + i, raw.begin() + i + sizeof(T));
-    return raw;
-  };
-  const auto word = [&](std::uint64_t n) {
-    std::vector<std::uint8_t> w(e.header64 ? 8 : 4);
-    for (std::size_t k = 0; k < w.size(); ++k) w[e.big_endian ? w.size() - 1 - k : k] = static_cast<std::uint8_t>(n >> (8 * k));
-    return w;
-  };
-  const auto array = [&](const std::string& name, const std::string& type, int components, const auto& values) {
-    std::string head = "<DataArray type=\"" + type + "\" Name=\"" + name + "\" NumberOfComponents=\"" +
-                       std::to_string(components) + "\" format=\"" + e.format + "\"";
-    if (e.format == "ascii") {
-      std::string body;
-      for (const auto& x : values) body += std::to_string(+x) + " ";
-      return head + ">\n" + body + "\n</DataArray>\n";
-    }
-    const std::vector<std::uint8_t> raw = bytes_of(values);
-    std::vector<std::uint8_t> header, data;
-    if (e.compressed) {
-      uLongf size = compressBound(static_cast<uLong>(raw.size()));
-      data.resize(size);
-      compress(data.data(), &size, raw.data(), static_cast<uLong>(raw.size()));
-      data.resize(size);
-      for (std::uint64_t w : {std::uint64_t{1}, std::uint64_t{raw.size()}, std::uint64_t{raw.size()}, std::uint64_t{size}}) {
-        const auto b = word(w);
-        header.insert(header.end(), b.begin(), b.end());
-      }
-    } else {
-      header = word(raw.size());
-      data = raw;
-    }
-    // Compressed arrays encode the header apart from the blocks, as VTK does.
-    std::vector<std::uint8_t> together = header;
-    together.insert(together.end(), data.begin(), data.end());
-    const std::string encoded = e.compressed ? base64(header) + base64(data) : base64(together);
-    if (e.format == "binary") return head + ">\n  " + encoded + "\n</DataArray>\n";
-    head += " offset=\"" + std::to_string(appended.size()) + "\"/>\n";
-    appended += e.appended_base64 ? encoded : std::string(together.begin(), together.end());
-    return head;
-  };
-  std::string xml = "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"" +
-                    std::string(e.big_endian ? "BigEndian" : "LittleEndian") + "\" header_type=\"" +
-                    (e.header64 ? "UInt64" : "UInt32") + "\"" +
-                    (e.compressed ? " compressor=\"vtkZLibDataCompressor\"" : "") +
-                    ">\n<UnstructuredGrid>\n<Piece NumberOfPoints=\"9\" NumberOfCells=\"2\">\n";
-  xml += "<PointData Scalars=\"T\">\n" + array("T", "Float64", 1, t) + "</PointData>\n";
-  xml += "<CellData>\n" + array("v", "Float64", 3, v) + "</CellData>\n";
-  xml += "<Points>\n" + array("Points", "Float32", 3, points) + "</Points>\n";
-  xml += "<Cells>\n" + array("connectivity", "Int64", 1, connectivity) + array("offsets", "Int64", 1, offsets) +
-         array("types", "UInt8", 1, types) + "</Cells>\n";
-  xml += "</Piece>\n</UnstructuredGrid>\n";
-  if (e.format == "appended")
-    xml += "<AppendedData encoding=\"" + std::string(e.appended_base64 ? "base64" : "raw") + "\">\n_" + appended +
-           "\n</AppendedData>\n";
-  return xml + "</VTKFile>\n";
+  XmlWriter w{e, {}};
+  std::string body = "<UnstructuredGrid>\n<Piece NumberOfPoints=\"9\" NumberOfCells=\"2\">\n";
+  body += "<PointData Scalars=\"T\">\n" + w.array("T", "Float64", 1, t) + "</PointData>\n";
+  body += "<CellData>\n" + w.array("v", "Float64", 3, v) + "</CellData>\n";
+  body += "<Points>\n" + w.array("Points", "Float32", 3, points) + "</Points>\n";
+  body += "<Cells>\n" + w.array("connectivity", "Int64", 1, connectivity) + w.array("offsets", "Int64", 1, offsets) +
+          w.array("types", "UInt8", 1, types) + "</Cells>\n";
+  body += "</Piece>\n</UnstructuredGrid>\n";
+  return w.file("UnstructuredGrid", body);
 }
 
 std::string write_file(const std::string& name, const std::string& text) {
@@ -122,17 +48,7 @@ std::string write_file(const std::string& name, const std::string& text) {
 }  // namespace
 
 TEST_CASE("VTK .vtu: every encoding reads to the same grid", "[io][vtk]") {
-  const Encoding encodings[] = {{"ascii"},
-                                {"binary"},
-                                {"binary", false, true},
-                                {"binary", false, true, true},
-                                {"appended"},
-                                {"appended", false, true, true},
-                                {"appended", true},
-                                {"appended", true, true},
-                                {"binary", false, false, true, true},
-                                {"appended", false, true, false, true}};
-  for (const Encoding& e : encodings) {
+  for (const Encoding& e : xml_encodings) {
     INFO("format " << e.format << (e.appended_base64 ? " base64" : "") << (e.compressed ? ", zlib" : "")
                    << (e.header64 ? ", UInt64 headers" : "") << (e.big_endian ? ", big-endian" : ""));
     const io::UnstructuredGridFile grid = io::read_vtu(write_file("grid.vtu", vtu_text(e)));
