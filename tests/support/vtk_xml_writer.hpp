@@ -12,7 +12,7 @@
 
 namespace sciray_test {
 
-std::string base64(const std::vector<std::uint8_t>& bytes) {
+inline std::string base64(const std::vector<std::uint8_t>& bytes) {
   static const char* table = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
   std::string out;
   for (std::size_t i = 0; i < bytes.size(); i += 3) {
@@ -42,7 +42,7 @@ struct Encoding {
   bool appended_base64 = false, compressed = false, header64 = false, big_endian = false;
 };
 
-std::string describe(const Encoding& e) {
+inline std::string describe(const Encoding& e) {
   return e.format + (e.appended_base64 ? " base64" : "") + (e.compressed ? ", zlib" : "") +
          (e.header64 ? ", UInt64 headers" : "") + (e.big_endian ? ", big-endian" : "");
 }
