@@ -57,6 +57,8 @@ inline std::optional<sciray::io::UnstructuredGridFile> load_vtk(const std::strin
   const bool poly_data = ext == ".vtp";
   if (!opt.color_by.empty() && ext != ".vtp" && ext != ".vtk")
     throw sciray::Error("--color-by: colours poly data (.vtp, legacy .vtk) by one of its arrays");
+  if (opt.radius != 0.f && ext != ".vtp" && ext != ".vtk")
+    throw sciray::Error("--radius: sizes the spheres of point clouds (.vtp, legacy .vtk poly data)");
   if (!opt.field.empty() && poly_data) throw sciray::Error("--field: picks a volume's array; colour poly data with --color-by");
   if (ext == ".vtu") return sciray::io::read_vtu(path);
   if (ext == ".vti") {
@@ -65,12 +67,17 @@ inline std::optional<sciray::io::UnstructuredGridFile> load_vtk(const std::strin
     add_poly_data(sciray::io::read_vtp(path), opt, scene);
   } else {
     auto file = sciray::io::read_legacy_vtk(path, opt.field);
-    if (auto* grid = std::get_if<sciray::io::UnstructuredGridFile>(&file)) return std::move(*grid);
+    if (auto* grid = std::get_if<sciray::io::UnstructuredGridFile>(&file)) {
+      if (!opt.color_by.empty() || opt.radius != 0.f)
+        throw sciray::Error("--color-by and --radius: apply to poly data; " + path + " holds an unstructured grid");
+      return std::move(*grid);
+    }
     if (auto* poly = std::get_if<sciray::io::PolyDataFile>(&file)) {
       if (!opt.field.empty()) throw sciray::Error("--field: picks a volume's array; colour poly data with --color-by");
       add_poly_data(std::move(*poly), opt, scene);
     } else {
-      if (!opt.color_by.empty()) throw sciray::Error("--color-by: colours poly data; " + path + " holds image data");
+      if (!opt.color_by.empty() || opt.radius != 0.f)
+        throw sciray::Error("--color-by and --radius: apply to poly data; " + path + " holds image data");
       scene.volume = std::move(std::get<sciray::io::VolumeFile>(file));
     }
   }

@@ -484,6 +484,9 @@ TEST_CASE("sciray render: VTK image data, poly data and point clouds", "[tool][v
   const Run wrong = run_tool("render " + vti.string() + " --color-by f -o " + iso.string());
   CHECK(wrong.exit_code != 0);
   CHECK_THAT(wrong.output, Catch::Contains("--color-by: colours poly data"));
+  const Run sized = run_tool("render " + vti.string() + " --radius 0.5 -o " + iso.string());
+  CHECK(sized.exit_code != 0);
+  CHECK_THAT(sized.output, Catch::Contains("--radius: sizes the spheres of point clouds"));
   const Run missing = run_tool("render " + legacy.string() + " --color-by pressure -o " + iso.string());
   CHECK(missing.exit_code != 0);
   CHECK_THAT(missing.output, Catch::Contains("height"));  // the arrays it has
