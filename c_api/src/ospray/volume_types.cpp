@@ -8,19 +8,22 @@
 
 namespace sciray::ospray {
 
+namespace {
+
+/// The T stored at `e` (an array's element, which need not be aligned for T).
+template <class T>
+T bytes_as(const std::byte* e) {
+  T value;
+  std::memcpy(&value, e, sizeof value);
+  return value;
+}
+
+}  // namespace
+
 /// The elements of a 1D array of uint32 or uint64 (OSPRay takes either for indices).
 std::vector<std::uint64_t> read_indices(const Data& data) {
-  std::vector<std::uint64_t> out(static_cast<std::size_t>(data.size()));
-  for (std::size_t i = 0; i < out.size(); ++i) {
-    if (data.element_type() == OSP_UINT) {
-      std::uint32_t v;
-      std::memcpy(&v, data.element(i), sizeof v);
-      out[i] = v;
-    } else {
-      std::memcpy(&out[i], data.element(i), sizeof out[i]);
-    }
-  }
-  return out;
+  return data.element_type() == OSP_UINT ? data.to_vector<std::uint64_t>(bytes_as<std::uint32_t>)
+                                         : data.to_vector<std::uint64_t>(bytes_as<std::uint64_t>);
 }
 
 std::vector<float> read_floats(const Data& data) {
@@ -30,48 +33,36 @@ std::vector<float> read_floats(const Data& data) {
 }
 
 std::vector<float> read_voxels_as_floats(const Data& data) {
-  const auto& n = data.counts();
-  std::vector<float> out;
-  out.reserve(static_cast<std::size_t>(data.size()));
-  const auto read = [&](const std::byte* e) -> float {
-    switch (data.element_type()) {
-      case OSP_UCHAR: return static_cast<float>(*reinterpret_cast<const std::uint8_t*>(e));
-      case OSP_SHORT: {
-        std::int16_t v;
-        std::memcpy(&v, e, sizeof v);
-        return v;
-      }
-      case OSP_USHORT: {
-        std::uint16_t v;
-        std::memcpy(&v, e, sizeof v);
-        return v;
-      }
-      case OSP_DOUBLE: {
-        double v;
-        std::memcpy(&v, e, sizeof v);
-        return static_cast<float>(v);
-      }
-      default: return read_float(e);
-    }
-  };
-  for (std::uint64_t k = 0; k < n[2]; ++k)
-    for (std::uint64_t j = 0; j < n[1]; ++j)
-      for (std::uint64_t i = 0; i < n[0]; ++i) out.push_back(read(data.element(i, j, k)));
-  return out;
+  switch (data.element_type()) {
+    case OSP_UCHAR: return data.to_vector<float>(bytes_as<std::uint8_t>);
+    case OSP_SHORT: return data.to_vector<float>(bytes_as<std::int16_t>);
+    case OSP_USHORT: return data.to_vector<float>(bytes_as<std::uint16_t>);
+    case OSP_DOUBLE: return data.to_vector<float>([](const std::byte* e) { return static_cast<float>(bytes_as<double>(e)); });
+    default: return data.to_vector<float>(read_float);
+  }
 }
 
 namespace {
 
 const std::initializer_list<OSPDataType> voxel_types = {OSP_UCHAR, OSP_SHORT, OSP_USHORT, OSP_FLOAT, OSP_DOUBLE};
 
-std::uint32_t read_uint(const std::byte* e) {
-  std::uint32_t x;
-  std::memcpy(&x, e, sizeof x);
-  return x;
-}
-
 std::vector<Vec3f> read_vec3fs(const Data& data) {
   return data.to_vector<Vec3f>([](const std::byte* e) { return Vec3f{read_float(e), read_float(e + 4), read_float(e + 8)}; });
+}
+
+/// The float arrays an array of arrays `list` (parameter `id` of `owner`) holds, one per
+/// element, each in memory order (x fastest).
+std::vector<std::vector<float>> read_float_arrays(const Object& owner, const Data& list, const std::string& id) {
+  std::vector<std::vector<float>> out;
+  for (std::size_t i = 0; i < list.size(); ++i) {
+    const auto* array = static_cast<const Data*>(list.object(i));
+    if (!array) throw Error(owner.name() + ": parameter '" + id + "' element " + std::to_string(i) + " is NULL");
+    if (array->element_type() != OSP_FLOAT)
+      throw Error(owner.name() + ": parameter '" + id + "' element " + std::to_string(i) +
+                  " must be an array of float, got " + type_name(array->element_type()));
+    out.push_back(read_voxels_as_floats(*array));
+  }
+  return out;
 }
 
 }  // namespace
@@ -134,31 +125,19 @@ EngineVolume VolumeObject::commit_structured_spherical() {
 /// indexToObject (affine3f, or an array of 12 floats), filter, gradientFilter, background.
 EngineVolume VolumeObject::commit_vdb() {
   VdbData v;
-  v.level = required_data("node.level", {OSP_UINT}, "array of uint32").to_vector<std::uint32_t>(read_uint);
+  v.level = required_data("node.level", {OSP_UINT}, "array of uint32").to_vector<std::uint32_t>(bytes_as<std::uint32_t>);
   v.origin = required_data("node.origin", {OSP_VEC3I}, "array of vec3i").to_vector<std::array<std::int32_t, 3>>(
-      [](const std::byte* e) {
-        std::array<std::int32_t, 3> o;
-        std::memcpy(o.data(), e, sizeof o);
-        return o;
-      });
+      bytes_as<std::array<std::int32_t, 3>>);
   if (const Data* format = get_data(*this, find("node.format"), "node.format", {OSP_UINT}))
-    v.format = format->to_vector<std::uint32_t>(read_uint);
-  if (const Data* nodes = get_data(*this, find("node.data"), "node.data", {OSP_DATA})) {
-    for (std::size_t i = 0; i < nodes->size(); ++i) {
-      const auto* node = static_cast<const Data*>(nodes->object(i));
-      if (!node) throw Error(name() + ": parameter 'node.data' element " + std::to_string(i) + " is NULL");
-      if (node->element_type() != OSP_FLOAT)
-        throw Error(name() + ": parameter 'node.data' element " + std::to_string(i) + " must be an array of float, got " +
-                    type_name(node->element_type()));
-      v.data.push_back(read_voxels_as_floats(*node));
-    }
-  }
+    v.format = format->to_vector<std::uint32_t>(bytes_as<std::uint32_t>);
+  if (const Data* nodes = get_data(*this, find("node.data"), "node.data", {OSP_DATA}))
+    v.data = read_float_arrays(*this, *nodes, "node.data");
   if (const Data* dense = get_data(*this, find("nodesPackedDense"), "nodesPackedDense", {OSP_FLOAT}))
     v.packed_dense = read_floats(*dense);
   if (const Data* tiles = get_data(*this, find("nodesPackedTile"), "nodesPackedTile", {OSP_FLOAT}))
     v.packed_tile = read_floats(*tiles);
   if (const Data* temporal = get_data(*this, find("node.temporalFormat"), "node.temporalFormat", {OSP_UINT}))
-    v.temporal_format = temporal->to_vector<std::uint32_t>(read_uint);
+    v.temporal_format = temporal->to_vector<std::uint32_t>(bytes_as<std::uint32_t>);
   for (const char* id : {"node.temporallyStructuredNumTimesteps", "node.temporallyUnstructuredIndices",
                          "node.temporallyUnstructuredTimes"})
     v.temporal_arrays = v.temporal_arrays || find(id) != nullptr;
@@ -183,25 +162,9 @@ EngineVolume VolumeObject::commit_vdb() {
 /// value per cell, x fastest), cellWidth, gridOrigin, gridSpacing, method, background.
 EngineVolume VolumeObject::commit_amr() {
   AmrData a;
-  a.block_bounds = required_data("block.bounds", {OSP_BOX3I}, "array of box3i").to_vector<AmrBox>([](const std::byte* e) {
-    AmrBox b;
-    std::memcpy(&b, e, sizeof b);
-    return b;
-  });
-  a.block_level = required_data("block.level", {OSP_INT}, "array of int").to_vector<std::int32_t>([](const std::byte* e) {
-    std::int32_t x;
-    std::memcpy(&x, e, sizeof x);
-    return x;
-  });
-  const Data& blocks = required_data("block.data", {OSP_DATA}, "array of arrays of float");
-  for (std::size_t i = 0; i < blocks.size(); ++i) {
-    const auto* block = static_cast<const Data*>(blocks.object(i));
-    if (!block) throw Error(name() + ": parameter 'block.data' element " + std::to_string(i) + " is NULL");
-    if (block->element_type() != OSP_FLOAT)
-      throw Error(name() + ": parameter 'block.data' element " + std::to_string(i) + " must be an array of float, got " +
-                  type_name(block->element_type()));
-    a.block_data.push_back(read_voxels_as_floats(*block));
-  }
+  a.block_bounds = required_data("block.bounds", {OSP_BOX3I}, "array of box3i").to_vector<AmrBox>(bytes_as<AmrBox>);
+  a.block_level = required_data("block.level", {OSP_INT}, "array of int").to_vector<std::int32_t>(bytes_as<std::int32_t>);
+  a.block_data = read_float_arrays(*this, required_data("block.data", {OSP_DATA}, "array of arrays of float"), "block.data");
   a.cell_width = read_floats(required_data("cellWidth", {OSP_FLOAT}, "array of float"));
   a.grid_origin = get_vec3f("gridOrigin", a.grid_origin);
   a.grid_spacing = get_vec3f("gridSpacing", a.grid_spacing);
