@@ -38,6 +38,16 @@ std::filesystem::path scratch(const std::string& name) {
   return dir / name;
 }
 
+/// How many pixels of the image `png` differ from its corner pixel (the background) in
+/// green by more than 0.01: how much of the picture the scene covers.
+int covered_pixels(const std::filesystem::path& png) {
+  const sciray::io::Image image = sciray::io::read_image(png.string());
+  int n = 0;
+  for (int y = 0; y < image.height; ++y)
+    for (int x = 0; x < image.width; ++x) n += std::abs(image.at(x, y, 1) - image.at(0, 0, 1)) > 0.01f;
+  return n;
+}
+
 }  // namespace
 
 TEST_CASE("sciray render: a real mesh to PNG with a JSON report", "[tool]") {
@@ -395,11 +405,7 @@ TEST_CASE("sciray render: a VTK unstructured grid, its array picked with --field
   CHECK(report["volume"]["dims"][0] == 4800);
   CHECK(report["volume"]["type"] == "unstructured (51 folded cells)");
   // The can is seen: some pixels are not the background.
-  const sciray::io::Image image = sciray::io::read_image(out.string());
-  int covered = 0;
-  for (int y = 0; y < image.height; ++y)
-    for (int x = 0; x < image.width; ++x) covered += std::abs(image.at(x, y, 1) - image.at(0, 0, 1)) > 0.01f;
-  CHECK(covered > 50);
+  CHECK(covered_pixels(out) > 50);
   const Run missing = run_tool("render " SCIRAY_DATA_DIR "/unstructured/can.vtu --field pressure -o " + out.string());
   CHECK(missing.exit_code != 0);
   CHECK_THAT(missing.output, Catch::Contains("can.vtu: has no array 'pressure' (its arrays: 'DISPL', 'VEL', 'ACCL', "
@@ -422,22 +428,11 @@ TEST_CASE("sciray render --iso: isosurfaces of VTK unstructured grids, cell arra
     const auto report = nlohmann::json::parse(run.output);
     CHECK(report["volumes"] == 0);
     CHECK((report["volume"]["type"].get<std::string>().find("averaged to the vertices") != std::string::npos) == averaged);
-    const sciray::io::Image image = sciray::io::read_image(out.string());
-    int covered = 0;
-    for (int y = 0; y < image.height; ++y)
-      for (int x = 0; x < image.width; ++x) covered += std::abs(image.at(x, y, 1) - image.at(0, 0, 1)) > 0.01f;
-    CHECK(covered > least);
+    CHECK(covered_pixels(out) > least);
   }
 }
 
 TEST_CASE("sciray render: VTK image data, poly data and point clouds", "[tool][vtk]") {
-  const auto covered = [](const std::filesystem::path& png) {
-    const sciray::io::Image image = sciray::io::read_image(png.string());
-    int n = 0;
-    for (int y = 0; y < image.height; ++y)
-      for (int x = 0; x < image.width; ++x) n += std::abs(image.at(x, y, 1) - image.at(0, 0, 1)) > 0.01f;
-    return n;
-  };
   // The stars: 107,857 points and no polygons, drawn as spheres coloured by colour index.
   const auto stars = scratch("stars.png");
   const Run run = run_tool("render " SCIRAY_DATA_DIR "/points/stars.vtp --color-by ci --size 64x48 --json -o " +
@@ -447,7 +442,7 @@ TEST_CASE("sciray render: VTK image data, poly data and point clouds", "[tool][v
   const auto report = nlohmann::json::parse(run.output);
   CHECK(report["spheres"] == 107857);
   CHECK(report["triangles"] == 0);
-  CHECK(covered(stars) > 50);
+  CHECK(covered_pixels(stars) > 50);
 
   // Image data written here, f = x + 2y + 3z on 4³ points: a structured volume whose
   // isosurface f = 6 is drawn.
@@ -467,7 +462,7 @@ TEST_CASE("sciray render: VTK image data, poly data and point clouds", "[tool][v
   INFO(image.output);
   REQUIRE(image.exit_code == 0);
   CHECK(nlohmann::json::parse(image.output)["volume"]["dims"] == nlohmann::json::array({4, 4, 4}));
-  CHECK(covered(iso) > 200);
+  CHECK(covered_pixels(iso) > 200);
 
   // Legacy poly data: a quad, fan-triangulated, coloured by a point scalar.
   const auto legacy = scratch("quad.vtk");
@@ -535,11 +530,7 @@ TEST_CASE("sciray render: particles from a PLY of vertices only and from .xyzr t
   const auto report = nlohmann::json::parse(run.output);
   CHECK(report["spheres"] == 1000);
   CHECK(report["triangles"] == 0);
-  const sciray::io::Image image = sciray::io::read_image(png.string());
-  int covered = 0;
-  for (int y = 0; y < image.height; ++y)
-    for (int x = 0; x < image.width; ++x) covered += std::abs(image.at(x, y, 1) - image.at(0, 0, 1)) > 0.01f;
-  CHECK(covered > 100);
+  CHECK(covered_pixels(png) > 100);
 
   const auto xyzr = scratch("particles.xyzr");
   std::ofstream(xyzr) << "# x y z r\n0 0 0 0.5\n1 0 0 0.25\n";
