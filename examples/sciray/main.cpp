@@ -252,13 +252,16 @@ int render(const RenderOptions& opt) {
     std::optional<sciray_tool::ProgressLine> progress(std::in_place, !opt.quiet);
     if (!opt.mesh.empty()) progress->stage("loading " + std::filesystem::path(opt.mesh).filename().string());
     auto start = Clock::now();
-    // "builtin:NAME" is a standard scene (testing/scenes.hpp), .pdb a molecule, otherwise
-    // a PLY mesh; nothing, the default scene.
+    // "builtin:NAME" is a standard scene (testing/scenes.hpp), .pdb a molecule, .obj a
+    // scene of meshes, a PLY of vertices only (or .xyz...) particles, volumes and VTK files
+    // below, otherwise a PLY mesh; nothing, the default scene.
     sciray::testing::StandardScene scene;
     std::optional<sciray::io::ObjScene> obj;
+    const bool builtin = opt.mesh.rfind("builtin:", 0) == 0;
+    const bool point_cloud = !opt.mesh.empty() && !builtin && sciray::io::is_point_cloud_file(opt.mesh);
     if (opt.mesh.empty()) {
       scene.mesh = sciray::testing::wavy_torus(400'000);
-    } else if (opt.mesh.rfind("builtin:", 0) == 0) {
+    } else if (builtin) {
       scene = sciray::testing::standard_scene(opt.mesh.substr(8), SCIRAY_DATA_DIR);
     } else if (std::filesystem::path(opt.mesh).extension() == ".pdb") {
       auto molecule = sciray::molecule_geometry(sciray::io::read_pdb(opt.mesh), sciray::parse_molecule_style(opt.style));
@@ -267,7 +270,7 @@ int render(const RenderOptions& opt) {
     } else if (std::filesystem::path(opt.mesh).extension() == ".obj") {
       obj = sciray::io::read_obj(opt.mesh);
       for (const auto& warning : obj->warnings) std::cerr << "sciray: warning: " << warning << '\n';
-    } else if (sciray::io::is_point_cloud_file(opt.mesh)) {
+    } else if (point_cloud) {
       // Particles (a PLY of vertices only, .xyz, .xyzr, .f32xyzr): spheres, coloured by a
       // property, or by the file's own colours where it has them and none is asked for.
       sciray::io::PointOptions points;
@@ -280,7 +283,7 @@ int render(const RenderOptions& opt) {
       scene.mesh = sciray::io::read_ply(opt.mesh, {opt.texcoord_from});
     }
     if (!opt.texcoord_from.empty() &&
-        (opt.mesh.empty() || opt.mesh.rfind("builtin:", 0) == 0 || std::filesystem::path(opt.mesh).extension() == ".pdb" ||
+        (opt.mesh.empty() || builtin || std::filesystem::path(opt.mesh).extension() == ".pdb" ||
          is_volume_file(opt.mesh) || sciray_tool::is_vtk_file(opt.mesh) || obj))
       throw sciray::Error("--texcoord-from: needs a PLY mesh, whose vertex property it reads");
 
@@ -290,7 +293,7 @@ int render(const RenderOptions& opt) {
     const bool vtk = sciray_tool::is_vtk_file(opt.mesh);
     if (!opt.volume.field.empty() && !vtk)
       throw sciray::Error("--field: needs a VTK file (.vtu, .vti, .vtk), whose array it picks");
-    if (!vtk && !sciray::io::is_point_cloud_file(opt.mesh) && (!opt.color_by.empty() || opt.radius != 0.f))
+    if (!vtk && !point_cloud && (!opt.color_by.empty() || opt.radius != 0.f))
       throw sciray::Error("--color-by and --radius: apply to point clouds (PLY without faces, .xyz, .xyzr, .f32xyzr) "
                           "and VTK poly data (.vtp, .vtk)");
     if (vtk) {
