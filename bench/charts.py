@@ -146,19 +146,23 @@ def memory_sweep(build, tmp, smoke):
     return points
 
 
+def peaked_transfer_function(path, value_range):
+    """Writes a transfer function with narrow features, as isovalue-like highlighting makes
+    them: two opacity peaks 1/64 of `value_range` wide. Returns `path`."""
+    opacities = [0.0] * 65
+    opacities[24], opacities[40] = 0.5, 1.0
+    with open(path, "w") as f:
+        json.dump({"colors": [[0.2, 0.4, 1.0], [1.0, 0.9, 0.3], [1.0, 0.3, 0.1]], "opacities": opacities,
+                   "range": value_range}, f)
+    return path
+
+
 def volume_sweep(build, tmp, smoke):
     volume = os.path.join(DATA, "volumes", "neghip_66x66x66_uint8.raw")
     size = "48x48" if smoke else "256x256"
     rates = [0.25, 0.5, 1.0] if smoke else [0.125, 0.25, 0.5, 1.0, 2.0, 4.0, 8.0]
     reference_rate = 8 * rates[-1]
-    # A transfer function with narrow features, as isovalue-like highlighting makes them:
-    # two opacity peaks 1/64 of the value range wide.
-    tf = os.path.join(tmp, "tf.json")
-    opacities = [0.0] * 65
-    opacities[24], opacities[40] = 0.5, 1.0
-    with open(tf, "w") as f:
-        json.dump({"colors": [[0.2, 0.4, 1.0], [1.0, 0.9, 0.3], [1.0, 0.3, 0.1]], "opacities": opacities,
-                   "range": [0, 255]}, f)
+    tf = peaked_transfer_function(os.path.join(tmp, "tf.json"), [0, 255])
     common = ["--size", size, "--tf", tf, "--density", "2"]
     reference_path = os.path.join(tmp, "volume_reference.pfm")
     # The same 3 accumulated frames (pixel jitter) as the sweep, so only sampling differs.
@@ -189,13 +193,7 @@ def unstructured_sweep(build, tmp, smoke):
         cases.append(("wavelet (per vertex)", wavelet, [37.0, 277.0]))
     curves = {}
     for label, path, value_range in cases:
-        # Narrow opacity peaks, as in the volume sweep.
-        tf = os.path.join(tmp, "unstructured_tf.json")
-        opacities = [0.0] * 65
-        opacities[24], opacities[40] = 0.5, 1.0
-        with open(tf, "w") as f:
-            json.dump({"colors": [[0.2, 0.4, 1.0], [1.0, 0.9, 0.3], [1.0, 0.3, 0.1]], "opacities": opacities,
-                       "range": value_range}, f)
+        tf = peaked_transfer_function(os.path.join(tmp, "unstructured_tf.json"), value_range)
         common = [path, "--size", size, "--tf", tf]
         reference_path = os.path.join(tmp, "unstructured_reference.pfm")
         # The same 3 accumulated frames (pixel jitter) as the sweep, so only the integration differs.
