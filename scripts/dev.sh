@@ -8,8 +8,8 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 packages=(build-essential cmake pkg-config libembree-dev libxsimd-dev libtbb-dev libstb-dev catch2
-          libbenchmark-dev nlohmann-json3-dev libcli11-dev libglm-dev zlib1g-dev libpugixml-dev libtinyobjloader-dev python3
-          python3-matplotlib python3-numpy libopenmpi-dev openmpi-bin)
+          libbenchmark-dev nlohmann-json3-dev libcli11-dev libglm-dev zlib1g-dev libpugixml-dev libtinyobjloader-dev python3 python3-dev pybind11-dev python3-pytest
+          python3-matplotlib python3-numpy python3-vtk9 xvfb xauth libopenmpi-dev openmpi-bin)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
@@ -25,7 +25,9 @@ build_dir=${BUILD_DIR:-build}
 jobs=${JOBS:-$(nproc)}
 werror=OFF
 [ "${CI:-}" = true ] && werror=ON
-cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release -DSCIRAY_WERROR=$werror
+# Debian's interpreter, whose numpy, pytest and VTK the packages above installed (not another
+# python3 that may come first on PATH).
+cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release -DSCIRAY_WERROR=$werror -DPython3_EXECUTABLE=/usr/bin/python3
 
 case "${1:-}" in
   render)

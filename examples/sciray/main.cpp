@@ -284,7 +284,7 @@ int render(const RenderOptions& opt) {
     }
     if (!opt.texcoord_from.empty() &&
         (opt.mesh.empty() || builtin || std::filesystem::path(opt.mesh).extension() == ".pdb" ||
-         is_volume_file(opt.mesh) || sciray_tool::is_vtk_file(opt.mesh) || obj))
+         is_volume_file(opt.mesh) || sciray_tool::is_vtk_file(opt.mesh) || obj || point_cloud))
       throw sciray::Error("--texcoord-from: needs a PLY mesh, whose vertex property it reads");
 
     sciray::accel::Device device;
@@ -390,14 +390,7 @@ int render(const RenderOptions& opt) {
       static_cast<sciray::CameraCommon&>(panoramic) = view;  // the same placement
       camera = panoramic;
     }
-    // Without lights of its own, a scene gets a light from the upper left behind the
-    // viewer, as a desk lamp would be, and some ambient light.
-    if (scene.lights.empty()) {
-      const sciray::Vec3f forward = normalize(view.direction);
-      const sciray::Vec3f right = normalize(cross(forward, view.up));
-      const sciray::Vec3f up = cross(right, forward);
-      scene.lights = sciray::default_lights(normalize(forward + right * 0.5f - up * 0.7f));
-    }
+    if (scene.lights.empty()) scene.lights = sciray_tool::desk_lamp_lights(view);
     const sciray::shim::RendererConfig config = renderer_config(opt, scene.lights, materials);
     sciray::FrameSettings settings;
     settings.pixel_samples = opt.pixel_samples;

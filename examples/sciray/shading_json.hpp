@@ -14,6 +14,7 @@
 
 #include "sciray/io/image.hpp"
 #include "sciray/math/color.hpp"
+#include "sciray/render/camera.hpp"
 #include "sciray/render/light.hpp"
 #include "sciray/render/material.hpp"
 
@@ -163,6 +164,15 @@ inline sciray::Material material_from_json(const nlohmann::json& j, const std::s
     throw sciray::Error(what + ": " + e.what());
   }
   return *material;
+}
+
+/// The lights of a scene without its own: one from the upper left behind the viewer, as
+/// a desk lamp would be, and some ambient light.
+inline std::vector<sciray::Light> desk_lamp_lights(const sciray::CameraCommon& view) {
+  const sciray::Vec3f forward = normalize(view.direction);
+  const sciray::Vec3f right = normalize(cross(forward, view.up));
+  const sciray::Vec3f up = cross(right, forward);
+  return sciray::default_lights(normalize(forward + right * 0.5f - up * 0.7f));
 }
 
 inline sciray::Light light_from_json(const nlohmann::json& j, const std::string& what) {

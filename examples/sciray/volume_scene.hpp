@@ -81,13 +81,19 @@ struct VolumeInfo {
   std::string type;
 };
 
-/// A volumetric model of `volume` through the transfer function asked for, and the
-/// default density: the densest value absorbs 1 − e⁻⁴ over the volume's diagonal.
+/// The default density: the densest value absorbs 1 − e⁻⁴ over the volume's diagonal.
+template <class Volume>
+float default_density(const Volume& volume) {
+  return 4.f / length(volume.bounds().size());
+}
+
+/// A volumetric model of `volume` through the transfer function asked for, at the default
+/// density unless one is.
 template <class Volume>
 sciray::VolumetricModel<Volume> volumetric_model(std::shared_ptr<const Volume> volume, std::array<float, 2> range,
                                                  const VolumeOptions& opt) {
   sciray::TransferFunction tf = opt.tf.empty() ? default_transfer_function(range) : read_transfer_function(opt.tf, range);
-  const float density = opt.density > 0.f ? opt.density : 4.f / length(volume->bounds().size());
+  const float density = opt.density > 0.f ? opt.density : default_density(*volume);
   sciray::VolumetricModel<Volume> model(volume, std::move(tf), density, opt.anisotropy);
   model.set_gradient_shading_scale(opt.gradient_shading_scale);
   return model;

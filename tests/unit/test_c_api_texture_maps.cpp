@@ -9,6 +9,7 @@
 #include <numbers>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <limits>
 #include <string>
 #include <vector>
@@ -357,4 +358,9 @@ TEST_CASE("sciray render: the bunny coloured by its confidence through a colour-
                                    scratch("x.png").string());
   CHECK(not_ply.exit_code != 0);
   CHECK(not_ply.output.find("--texcoord-from: needs a PLY mesh") != std::string::npos);
+  std::ofstream(scratch("points.xyz")) << "0 0 0\n1 0 0\n";
+  const ToolRun points = run_tool("render " + scratch("points.xyz").string() + " --size 16x16 --texcoord-from x -o " +
+                                  scratch("x.png").string());
+  CHECK(points.exit_code != 0);
+  CHECK(points.output.find("--texcoord-from: needs a PLY mesh") != std::string::npos);
 }
