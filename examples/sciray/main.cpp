@@ -3,7 +3,8 @@
 //   sciray info
 //   sciray render [MESH.ply|SCENE.obj|POINTS.ply|.xyz|.xyzr|.f32xyzr|MOLECULE.pdb|VOLUME.raw|VOLUME.nrrd|
 //                  VTK.vtu|.vti|.vtp|.vtk|builtin:NAME]
-//                 [--field NAME] [--color-by NAME] [--radius R] [--camera cam.json] [--size WxH]
+//                 [--field NAME] [--color-by NAME] [--radius R] [--radius-by NAME] [--radius-exponent E]
+//                 [--camera cam.json] [--size WxH]
 //                 [--isa auto|avx512|avx2|sse4.2|scalar] [--threads N] [--frames N]
 //                 [-o out.png|out.pfm] [--depth depth.pfm] [--json] [--quiet]
 //                 [--style ball-and-stick|space-filling] [--sphere-intersector sciray|embree]
@@ -116,7 +117,9 @@ struct RenderOptions {
   bool no_empty_space_skipping = false;
   bool preintegration = false;
   std::string color_by;  // VTK poly data: the array that colours it
-  float radius = 0.f;    // VTK point clouds: the spheres' radius (0: from their spacing)
+  float radius = 0.f;    // point clouds: the spheres' radius (0: from their spacing)
+  std::string radius_by;  // point clouds: scale each radius by this property
+  float radius_exponent = 1.f;
   bool quiet = false;  // no progress line
   bool adaptive_sampling = false;
   std::string renderer = "scivis";
@@ -249,8 +252,13 @@ int render(const RenderOptions& opt) {
   nlohmann::json report;
   tbb::task_arena arena(threads);
   arena.execute([&] {
+    sciray::accel::Device device;  // before the progress line, which reads its build progress
     std::optional<sciray_tool::ProgressLine> progress(std::in_place, !opt.quiet);
-    if (!opt.mesh.empty()) progress->stage("loading " + std::filesystem::path(opt.mesh).filename().string());
+    if (!opt.mesh.empty() && std::filesystem::is_regular_file(opt.mesh)) {
+      char size[32];
+      std::snprintf(size, sizeof size, " (%.1f MB)", static_cast<double>(std::filesystem::file_size(opt.mesh)) / 1e6);
+      progress->stage("loading " + std::filesystem::path(opt.mesh).filename().string() + size);
+    }
     auto start = Clock::now();
     // "builtin:NAME" is a standard scene (testing/scenes.hpp), .pdb a molecule, .obj a
     // scene of meshes, a PLY of vertices only (or .xyz...) particles, volumes and VTK files
@@ -275,6 +283,7 @@ int render(const RenderOptions& opt) {
       // property, or by the file's own colours where it has them and none is asked for.
       sciray::io::PointOptions points;
       points.radius = opt.radius;
+      points.radius_by = opt.radius_by, points.radius_exponent = opt.radius_exponent;
       points.color_by = opt.color_by;
       sciray::io::PointCloud cloud = sciray::io::read_points(opt.mesh, points);
       points.file_colors = opt.color_by.empty() && cloud.find("red") != nullptr;
@@ -287,17 +296,17 @@ int render(const RenderOptions& opt) {
          is_volume_file(opt.mesh) || sciray_tool::is_vtk_file(opt.mesh) || obj || point_cloud))
       throw sciray::Error("--texcoord-from: needs a PLY mesh, whose vertex property it reads");
 
-    sciray::accel::Device device;
     sciray::shim::EngineWorld world(device);
     std::optional<sciray_tool::VolumeInfo> volume;
     const bool vtk = sciray_tool::is_vtk_file(opt.mesh);
     if (!opt.volume.field.empty() && !vtk)
       throw sciray::Error("--field: needs a VTK file (.vtu, .vti, .vtk), whose array it picks");
-    if (!vtk && !point_cloud && (!opt.color_by.empty() || opt.radius != 0.f))
-      throw sciray::Error("--color-by and --radius: apply to point clouds (PLY without faces, .xyz, .xyzr, .f32xyzr) "
+    if (!vtk && !point_cloud && (!opt.color_by.empty() || opt.radius != 0.f || !opt.radius_by.empty()))
+      throw sciray::Error("--color-by, --radius and --radius-by: apply to point clouds (PLY without faces, .xyz, .xyzr, .f32xyzr) "
                           "and VTK poly data (.vtp, .vtk)");
     if (vtk) {
-      if (auto grid = sciray_tool::load_vtk(opt.mesh, {opt.volume.field, opt.color_by, opt.radius}, scene))
+      if (auto grid = sciray_tool::load_vtk(
+            opt.mesh, {opt.volume.field, opt.color_by, opt.radius, opt.radius_by, opt.radius_exponent}, scene))
         volume = sciray_tool::add_unstructured(world, *grid, opt.mesh, opt.volume);
     } else if (is_volume_file(opt.mesh)) {
       scene.volume = sciray::io::read_volume(opt.mesh);
@@ -372,7 +381,7 @@ int render(const RenderOptions& opt) {
       }
       world.set_clipping(clipping);
     }
-    progress->stage("building the BVH");
+    progress->stage("building the BVH", [&device] { return device.build_progress(); });
     start = Clock::now();
     kernels.commit(world);
     const double build_ms = ms_since(start);
@@ -524,6 +533,10 @@ int main(int argc, char** argv) {
   render_cmd->add_option("--radius", opt.radius,
                          "point clouds: the spheres' radius where the file gives none (default: a fifth of their "
                          "mean spacing)");
+  render_cmd->add_option("--radius-by", opt.radius_by,
+                         "point clouds: scale each sphere's radius by this property: radius x (value / median "
+                         "value)^E (stars by luminosity: --radius-by lum --radius-exponent 0.25)");
+  render_cmd->add_option("--radius-exponent", opt.radius_exponent, "point clouds: the exponent E of --radius-by");
   render_cmd->add_option("--field", opt.volume.field,
                          ".vtu, .vti, legacy .vtk volumes: the point or cell array to render (vectors by magnitude; default: its Scalars array)");
   render_cmd->add_option("--layout", opt.volume.layout, "volumes: linear (in place) or bricked");

@@ -1,6 +1,6 @@
 #pragma once
-// The tool's progress line on stderr, for long work: what it is doing (loading, building
-// the BVH) and, while frames render, frames done, a bar, and the time left — or the
+// The tool's progress line on stderr, for long work: what it is doing (loading, with the
+// file's size; building the BVH, with Embree's fraction done) and, while frames render, frames done, a bar, and the time left — or the
 // estimated error against --error-target. Drawn only on a terminal and without --quiet;
 // a thread of its own redraws it in place every fifth of a second from the frame's tile
 // count, so a single long frame shows its progress too.
@@ -12,6 +12,7 @@
 #include <cmath>
 #include <condition_variable>
 #include <cstdio>
+#include <functional>
 #include <mutex>
 #include <string>
 #include <thread>
@@ -40,16 +41,18 @@ public:
     std::fflush(stderr);
   }
 
-  /// What the tool does now ("loading can.vtu", "building the BVH").
-  void stage(std::string what) {
+  /// What the tool does now ("loading can.vtu", "building the BVH"), and how far it is
+  /// in [0, 1] if it can tell (`fraction`, called from the painting thread).
+  void stage(std::string what, std::function<double()> fraction = {}) {
     std::lock_guard lock(mutex_);
     stage_ = std::move(what);
+    stage_fraction_ = std::move(fraction);
     stage_start_ = Clock::now();
   }
   /// Frames begin: up to `total` of them, or until the error estimate meets `error_target` (> 0).
   void start_frames(int total, float error_target) {
     std::lock_guard lock(mutex_);
-    stage_.clear();
+    stage_.clear(), stage_fraction_ = {};
     total_frames_ = total, error_target_ = error_target, frames_done_ = 0;
     frames_start_ = Clock::now();
   }
@@ -88,7 +91,15 @@ private:
   /// The line as things stand (under the lock).
   std::string describe() const {
     const auto since = [](Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); };
-    if (!stage_.empty()) return stage_ + "… " + seconds(since(stage_start_));
+    if (!stage_.empty()) {
+      std::string line = stage_ + "… ";
+      if (stage_fraction_) {
+        char percent[16];
+        std::snprintf(percent, sizeof percent, "%3.0f%% · ", 100. * std::clamp(stage_fraction_(), 0., 1.));
+        line += percent;
+      }
+      return line + seconds(since(stage_start_));
+    }
     if (total_frames_ == 0) return {};
     const double within = control_.progress();
     const double done = std::min<double>(frames_done_ + within, total_frames_);
@@ -121,6 +132,7 @@ private:
   std::condition_variable wake_;
   bool done_ = false;
   std::string stage_;
+  std::function<double()> stage_fraction_;
   Clock::time_point stage_start_, frames_start_;
   int total_frames_ = 0, frames_done_ = 0;
   float error_target_ = 0.f, error_ = std::numeric_limits<float>::quiet_NaN();

@@ -29,12 +29,17 @@ struct VtkOptions {
   std::string field;     ///< image data: the array to render (empty: its Scalars)
   std::string color_by;  ///< poly data: the point or cell array that colours it (empty: none)
   float radius = 0.f;    ///< point clouds: the spheres' radius (0: from the points' spacing)
+  std::string radius_by;  ///< point clouds: scale each radius by this point array (see io::PointOptions)
+  float radius_exponent = 1.f;
+  bool sizes_spheres() const { return radius != 0.f || !radius_by.empty(); }
 };
 
 /// Poly data into `scene`: its triangles, or its points as spheres.
 inline void add_poly_data(sciray::io::PolyDataFile poly, const VtkOptions& opt, sciray::testing::StandardScene& scene) {
   if (!opt.color_by.empty()) sciray::io::color_by(poly, opt.color_by, sciray::testing::colormap);
   if (!poly.points_only()) {
+    if (!opt.radius_by.empty())
+      throw sciray::Error("--radius-by: sizes the spheres of point clouds; " + poly.source + " has polygons");
     scene.mesh = std::move(poly.mesh);
     return;
   }
@@ -44,6 +49,15 @@ inline void add_poly_data(sciray::io::PolyDataFile poly, const VtkOptions& opt, 
   cloud.positions = std::move(poly.mesh.positions);
   sciray::SphereData spheres;
   spheres.radius = opt.radius > 0.f ? opt.radius : sciray::io::default_radius(cloud);
+  if (!opt.radius_by.empty()) {
+    const sciray::io::VtkArray* by = nullptr;
+    for (const auto& a : poly.point_arrays)
+      if (a.name == opt.radius_by) by = &a;
+    if (!by || by->components != 1)
+      throw sciray::Error(poly.source + ": --radius-by: no point array '" + opt.radius_by + "' of one component");
+    spheres.radii = sciray::io::scaled_radii([&](std::size_t i) { return by->values[i]; }, cloud.count(),
+                                             spheres.radius, opt.radius_exponent, opt.radius_by, poly.source);
+  }
   spheres.positions = std::move(cloud.positions);
   spheres.colors = std::move(poly.mesh.vertex_colors);
   scene.spheres = std::move(spheres);
@@ -57,8 +71,8 @@ inline std::optional<sciray::io::UnstructuredGridFile> load_vtk(const std::strin
   const bool poly_data = ext == ".vtp";
   if (!opt.color_by.empty() && ext != ".vtp" && ext != ".vtk")
     throw sciray::Error("--color-by: colours poly data (.vtp, legacy .vtk) by one of its arrays");
-  if (opt.radius != 0.f && ext != ".vtp" && ext != ".vtk")
-    throw sciray::Error("--radius: sizes the spheres of point clouds (.vtp, legacy .vtk poly data)");
+  if (opt.sizes_spheres() && ext != ".vtp" && ext != ".vtk")
+    throw sciray::Error("--radius and --radius-by: size the spheres of point clouds (.vtp, legacy .vtk poly data)");
   if (!opt.field.empty() && poly_data) throw sciray::Error("--field: picks a volume's array; colour poly data with --color-by");
   if (ext == ".vtu") return sciray::io::read_vtu(path);
   if (ext == ".vti") {
@@ -68,16 +82,16 @@ inline std::optional<sciray::io::UnstructuredGridFile> load_vtk(const std::strin
   } else {
     auto file = sciray::io::read_legacy_vtk(path, opt.field);
     if (auto* grid = std::get_if<sciray::io::UnstructuredGridFile>(&file)) {
-      if (!opt.color_by.empty() || opt.radius != 0.f)
-        throw sciray::Error("--color-by and --radius: apply to poly data; " + path + " holds an unstructured grid");
+      if (!opt.color_by.empty() || opt.sizes_spheres())
+        throw sciray::Error("--color-by, --radius and --radius-by: apply to poly data; " + path + " holds an unstructured grid");
       return std::move(*grid);
     }
     if (auto* poly = std::get_if<sciray::io::PolyDataFile>(&file)) {
       if (!opt.field.empty()) throw sciray::Error("--field: picks a volume's array; colour poly data with --color-by");
       add_poly_data(std::move(*poly), opt, scene);
     } else {
-      if (!opt.color_by.empty() || opt.radius != 0.f)
-        throw sciray::Error("--color-by and --radius: apply to poly data; " + path + " holds image data");
+      if (!opt.color_by.empty() || opt.sizes_spheres())
+        throw sciray::Error("--color-by, --radius and --radius-by: apply to poly data; " + path + " holds image data");
       scene.volume = std::move(std::get<sciray::io::VolumeFile>(file));
     }
   }

@@ -305,6 +305,30 @@ TEST_CASE("points: the spheres' radius: the file's, the option, else from the sp
   CHECK(as_vector(to_spheres(read_points(sized, options), options).radii) == std::vector<float>{3});
 }
 
+TEST_CASE("points: radii scaled by a property, (value / median)^exponent", "[io][points]") {
+  const TempDir dir;
+  const std::string file = dir.write(
+      "lum.ply", make_ply("ascii", {"float32 x", "float32 y", "float32 z", "float32 lum"},
+                          {{0, 0, 0, 1}, {1, 0, 0, 16}, {2, 0, 0, 81}}));
+  PointOptions options;
+  options.radius = 0.5f;
+  options.radius_by = "lum";
+  options.radius_exponent = 0.25f;
+  // The median (16) keeps the radius; 1 and 81 are a half and one and a half times it.
+  CHECK_THAT(as_vector(to_spheres(read_points(file), options).radii),
+             Catch::Matchers::Approx(std::vector<float>{0.25f, 0.5f, 0.75f}));
+  // With the file's own radii, each is scaled.
+  const std::string own = dir.write("r.xyzr", "0 0 0 1\n1 0 0 2\n2 0 0 4\n");
+  options.radius_by = "x", options.radius_exponent = 1.f;
+  REQUIRE_THROWS_WITH(to_spheres(read_points(own), options),
+                      Contains("point 0 has x 0, and a radius needs a positive finite value"));
+  options.radius_by = "radius";
+  CHECK_THAT(as_vector(to_spheres(read_points(own), options).radii), Catch::Matchers::Approx(std::vector<float>{0.5f, 2, 8}));
+  options.radius_by = "brightness";
+  REQUIRE_THROWS_WITH(to_spheres(read_points(file), options),
+                      Contains("no point property 'brightness' to size the spheres by; the points have x, y, z, lum"));
+}
+
 TEST_CASE("points: malformed files give errors that say what is wrong", "[io][points]") {
   const TempDir dir;
   const auto read = [&](const std::string& name, const std::string& contents) {

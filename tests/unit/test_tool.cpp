@@ -443,6 +443,16 @@ TEST_CASE("sciray render: VTK image data, poly data and point clouds", "[tool][v
   CHECK(report["spheres"] == 107857);
   CHECK(report["triangles"] == 0);
   CHECK(covered_pixels(stars) > 50);
+  // Sized by luminosity: the brighter stars grow, so more of the picture is covered.
+  const auto by_lum_png = scratch("stars_by_lum.png");
+  const Run by_lum = run_tool("render " SCIRAY_DATA_DIR "/points/stars.vtp --color-by ci --radius-by lum "
+                              "--radius-exponent 0.25 --size 64x48 -o " + by_lum_png.string());
+  INFO(by_lum.output);
+  REQUIRE(by_lum.exit_code == 0);
+  CHECK(covered_pixels(by_lum_png) > covered_pixels(stars));
+  const Run no_array = run_tool("render " SCIRAY_DATA_DIR "/points/stars.vtp --radius-by mass -o " + by_lum_png.string());
+  CHECK(no_array.exit_code != 0);
+  CHECK(no_array.output.find("--radius-by: no point array 'mass' of one component") != std::string::npos);
 
   // Image data written here, f = x + 2y + 3z on 4³ points: a structured volume whose
   // isosurface f = 6 is drawn.
@@ -481,7 +491,7 @@ TEST_CASE("sciray render: VTK image data, poly data and point clouds", "[tool][v
   CHECK_THAT(wrong.output, Catch::Contains("--color-by: colours poly data"));
   const Run sized = run_tool("render " + vti.string() + " --radius 0.5 -o " + iso.string());
   CHECK(sized.exit_code != 0);
-  CHECK_THAT(sized.output, Catch::Contains("--radius: sizes the spheres of point clouds"));
+  CHECK_THAT(sized.output, Catch::Contains("--radius and --radius-by: size the spheres of point clouds"));
   const Run missing = run_tool("render " + legacy.string() + " --color-by pressure -o " + iso.string());
   CHECK(missing.exit_code != 0);
   CHECK_THAT(missing.output, Catch::Contains("height"));  // the arrays it has

@@ -152,6 +152,15 @@ TEST_CASE("BVH settings: compact leaves cost less memory, every layout renders t
   CHECK(images[2] == images[0]);
 }
 
+TEST_CASE("the device reports how far a BVH build is, and 1 when it is done", "[world][progress]") {
+  accel::Device device;
+  CHECK(device.build_progress() == 0.0);
+  shim::EngineWorld world(device);
+  world.add(TriangleMesh(testing::wavy_torus(200'000)));
+  shim::kernels(simd::best_supported_isa()).commit(world);
+  CHECK(device.build_progress() == 1.0);  // Embree's progress monitor ran to the end
+}
+
 TEST_CASE("a scene of every geometry type, instanced and clipped, matches its reference", "[world][reference]") {
   accel::Device device;
   shim::EngineWorld world(device);

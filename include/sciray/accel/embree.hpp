@@ -55,9 +55,19 @@ public:
   /// Bytes Embree currently holds for all scenes of this device.
   std::int64_t bytes_in_use() const { return state_->bytes.load(std::memory_order_relaxed); }
 
+  /// How far the BVH build in progress on this device is, in [0, 1] (Embree's progress
+  /// monitor; each scene's build, a group's and the top level's, goes from 0 to 1 in turn).
+  double build_progress() const { return state_->build_progress.load(std::memory_order_relaxed); }
+
+  /// Reports `scene`'s builds through build_progress().
+  void watch_builds(RTCScene scene) const {
+    rtcSetSceneProgressMonitorFunction(scene, &Device::on_build_progress, state_.get());
+  }
+
 private:
   struct State {
     std::atomic<std::int64_t> bytes{0};
+    std::atomic<double> build_progress{0.0};
     std::mutex mutex;
     std::string last_error;
   };
@@ -66,6 +76,10 @@ private:
     auto* state = static_cast<State*>(user);
     std::lock_guard lock(state->mutex);
     state->last_error = message ? message : "unknown error";
+  }
+  static bool on_build_progress(void* user, double fraction) {
+    static_cast<State*>(user)->build_progress.store(fraction, std::memory_order_relaxed);
+    return true;  // never cancels the build
   }
   static bool on_memory(void* user, ssize_t bytes, bool) {
     static_cast<State*>(user)->bytes.fetch_add(bytes, std::memory_order_relaxed);
@@ -80,6 +94,7 @@ class Scene {
 public:
   explicit Scene(const Device& device) : device_(&device), scene_(rtcNewScene(device.get())) {
     device.check("rtcNewScene");
+    device.watch_builds(scene_);
   }
   ~Scene() {
     if (scene_) rtcReleaseScene(scene_);

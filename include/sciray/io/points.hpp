@@ -54,6 +54,10 @@ struct PointOptions {
   /// property's finite range.
   std::optional<std::array<double, 2>> range;
   bool file_colors = false;  ///< to_spheres: colour by the file's red, green, blue (alpha)
+  /// to_spheres: size each point by this property: radius × (value / median)^radius_exponent,
+  /// so that a point of the median value has `radius` (values must be positive and finite).
+  std::string radius_by;
+  float radius_exponent = 1.f;
 };
 
 /// A per-point scalar other than x, y, z and the radius.
@@ -525,8 +529,30 @@ inline float default_radius(const PointCloud& cloud) {
   return static_cast<float>(0.2 * std::pow(measure / static_cast<double>(cloud.count()), 1.0 / dimensions));
 }
 
+/// Radii `base` × (value / median)^exponent, one per value of `values(i)`, i < count; the
+/// first value that is not positive and finite is named (`point`, `name` in `source`).
+template <class Values>
+PaddedVector<float> scaled_radii(const Values& values, std::size_t count, float base, float exponent,
+                                 std::string_view name, std::string_view source) {
+  if (!std::isfinite(exponent))
+    ply_detail::fail(source, "the radius exponent must be finite, got " + points_detail::number(exponent));
+  std::vector<double> sorted(count);
+  for (std::size_t i = 0; i < count; ++i) {
+    sorted[i] = static_cast<double>(values(i));
+    if (!(sorted[i] > 0) || !std::isfinite(sorted[i]))
+      ply_detail::fail(source, "point " + std::to_string(i) + " has " + std::string(name) + " " +
+                                   points_detail::number(sorted[i]) + ", and a radius needs a positive finite value");
+  }
+  std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(count / 2), sorted.end());
+  const double median = count ? sorted[count / 2] : 1.0;
+  PaddedVector<float> radii(count);
+  for (std::size_t i = 0; i < count; ++i)
+    radii[i] = static_cast<float>(base * std::pow(static_cast<double>(values(i)) / median, exponent));
+  return radii;
+}
+
 /// Spheres of the points. Radius: the file's radii, else options.radius if > 0, else
-/// default_radius(). Colour: options.color_by through `colormap` over options.range (default
+/// default_radius(); scaled per point by options.radius_by. Colour: options.color_by through `colormap` over options.range (default
 /// the property's finite range), or with options.file_colors the file's own; else none.
 inline SphereData to_spheres(PointCloud cloud, const PointOptions& options = {},
                              const std::function<Vec3f(float)>& colormap = {}) {
@@ -542,6 +568,12 @@ inline SphereData to_spheres(PointCloud cloud, const PointOptions& options = {},
     spheres.colors = colors_by(cloud, options.color_by, colormap, options.range);
   else if (options.file_colors)
     spheres.colors = file_colors(cloud);
+  PaddedVector<float> scale;  // per point, from options.radius_by
+  if (!options.radius_by.empty()) {
+    const points_detail::Values values = points_detail::values_of(cloud, options.radius_by, "to size the spheres by");
+    scale = scaled_radii([&](std::size_t i) { return values[i]; }, cloud.count(), 1.f, options.radius_exponent,
+                         options.radius_by, cloud.source);
+  }
   if (!cloud.radii.empty()) {
     for (std::size_t i = 0; i < cloud.radii.size(); ++i)
       if (!(cloud.radii[i] > 0.f))
@@ -550,6 +582,10 @@ inline SphereData to_spheres(PointCloud cloud, const PointOptions& options = {},
     spheres.radii = std::move(cloud.radii);
   } else {
     spheres.radius = options.radius > 0.f ? options.radius : default_radius(cloud);
+  }
+  if (!scale.empty()) {
+    for (std::size_t i = 0; i < scale.size(); ++i) scale[i] *= spheres.radii.empty() ? spheres.radius : spheres.radii[i];
+    spheres.radii = std::move(scale);
   }
   spheres.positions = std::move(cloud.positions);
   return spheres;
