@@ -9,13 +9,13 @@ See docs/python.md.
 """
 from ._sciray import (Camera, Error, Light, Material, Renderer, Scene, Session, TransferFunction, isas, read_obj,
                       read_pdb, read_ply, read_points, read_volume, read_vti, read_vtp, read_vtu, wavy_torus)
-from .adapters import image_arrays, mesh_arrays, molecule_arrays, shareable
+from .adapters import grid_arrays, image_arrays, mesh_arrays, molecule_arrays, shareable
 from .image import Image
 
 Error.__module__ = "sciray"  # an engine error: a ValueError naming what is wrong
 
 __all__ = ["Camera", "Error", "Image", "Light", "Material", "Renderer", "Scene", "Session", "TransferFunction",
-           "builtin_scene", "image_arrays", "isas", "mesh_arrays", "molecule_arrays", "read_obj", "read_pdb",
+           "builtin_scene", "grid_arrays", "image_arrays", "isas", "mesh_arrays", "molecule_arrays", "read_obj", "read_pdb",
            "read_ply", "read_points", "read_volume", "read_vti", "read_vtp", "read_vtu", "render", "shareable",
            "wavy_torus"]
 

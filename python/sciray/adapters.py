@@ -109,6 +109,52 @@ def image_arrays(obj, field=None):
     return {"values": values.reshape(tuple(dims), order="F"), "spacing": tuple(spacing), "origin": tuple(first)}
 
 
+def grid_arrays(obj, field=None):
+    """points, connectivity, cell_types, offsets and values (point data) or cell_values of a
+    pyvista.UnstructuredGrid, a vtkUnstructuredGrid or a read_vtu dict, for
+    Scene.add_unstructured. `field` names the array (default: the active scalars, or for a
+    dict the first point array, else the first cell array); vectors by magnitude."""
+    if isinstance(obj, dict):  # read_vtu
+        points, connectivity, types, ends = obj["points"], obj["connectivity"], obj["cell_types"], obj["offsets"]
+        point_data, cell_data = obj["point_data"], obj["cell_data"]
+    elif hasattr(obj, "celltypes"):  # pyvista.UnstructuredGrid
+        points, connectivity, types = obj.points, obj.cell_connectivity, obj.celltypes
+        ends, point_data, cell_data = np.asarray(obj.offset)[1:], obj.point_data, obj.cell_data
+    elif hasattr(obj, "GetCells"):  # vtkUnstructuredGrid
+        cells = obj.GetCells()
+        points = _vtk_to_numpy(obj.GetPoints().GetData())
+        connectivity = _vtk_to_numpy(cells.GetConnectivityArray())
+        ends = _vtk_to_numpy(cells.GetOffsetsArray())[1:]
+        types = _vtk_to_numpy(obj.GetCellTypesArray())
+        point_data, cell_data = _vtk_arrays(obj.GetPointData()), _vtk_arrays(obj.GetCellData())
+    else:
+        raise TypeError(f"grid_arrays: expected a pyvista.UnstructuredGrid, a vtkUnstructuredGrid or a dict, "
+                        f"got {type(obj).__name__}")
+    out = {"points": points, "connectivity": connectivity, "cell_types": types, "offsets": ends}
+    names = [field] if field else list(point_data.keys()) + list(cell_data.keys())
+    for name in names:
+        if name in point_data:
+            out["values"] = _magnitude(point_data[name])
+            return out
+        if name in cell_data:
+            out["cell_values"] = _magnitude(cell_data[name])
+            return out
+    raise ValueError(f"grid_arrays: no point or cell array {field!r}" if field else "grid_arrays: the grid has no arrays")
+
+
+def _vtk_arrays(data):
+    """A vtkDataSetAttributes' arrays by name, active scalars first."""
+    arrays = {}
+    scalars = data.GetScalars()
+    if scalars is not None and scalars.GetName():
+        arrays[scalars.GetName()] = _vtk_to_numpy(scalars)
+    for i in range(data.GetNumberOfArrays()):
+        array = data.GetArray(i)
+        if array is not None and array.GetName() not in arrays:
+            arrays[array.GetName()] = _vtk_to_numpy(array)
+    return arrays
+
+
 def molecule_arrays(molecule, bond_radius=0.2):
     """Atoms (spheres) and bonds (two-vertex tubes) of a read_pdb result:
     `scene.add_spheres(**atoms)`, `scene.add_curves(**bonds)`."""

@@ -9,6 +9,7 @@
 
 #include "arrays.hpp"
 #include "shading_json.hpp"
+#include "sciray/io/vtk.hpp"
 #include "sciray/testing/scenes.hpp"
 #include "volume_scene.hpp"
 
@@ -365,6 +366,72 @@ int add_volume(Scene& scene, py::object values, py::object spacing, py::object o
   return scene.add(std::move(entry));
 }
 
+/// An unstructured volume from VTK's arrays (read_vtu's, pyvista's): points, connectivity,
+/// cell types (VTK's codes: tetrahedra, voxels, hexahedra, wedges, pyramids and their
+/// quadratic forms, read by their corners), offsets (where each cell ends; None for linear
+/// cells only: from their sizes), and values per point or per cell. Always copied.
+int add_unstructured(Scene& scene, py::object points, py::object connectivity, py::object cell_types,
+                     py::object values, py::object cell_values, py::object offsets, const ModelOptions& options) {
+  if (values.is_none() == cell_values.is_none()) type_error("values", "give values (per point) or cell_values, one of them");
+  SceneEntry entry;
+  entry.kind = "unstructured", entry.geometry = false;
+  entry.build = [=]() -> Built {
+    sciray::io::UnstructuredGridFile grid;
+    const auto positions = float_rows(points, {"points", 3});
+    for (std::size_t i = 0; i < positions.view.count; ++i) {
+      const float* p = positions.view.element(i);
+      grid.points.push_back({p[0], p[1], p[2]});
+    }
+    const auto index = index_rows(connectivity, {"connectivity", 1});
+    for (std::size_t i = 0; i < index.view.count; ++i) grid.connectivity.push_back(*index.view.element(i));
+    const auto types = index_rows(cell_types, {"cell_types", 1});
+    for (std::size_t c = 0; c < types.view.count; ++c) {
+      const std::uint32_t type = *types.view.element(c);
+      if (type > 255) value_error("cell_types", "cell " + std::to_string(c) + " has type " + std::to_string(type));
+      grid.types.push_back(static_cast<std::uint8_t>(type));
+    }
+    if (!offsets.is_none()) {
+      const auto ends = index_rows(offsets, {"offsets", 1});
+      if (ends.view.count != types.view.count)
+        value_error("offsets", "has " + std::to_string(ends.view.count) + " entries but there are " +
+                                   std::to_string(types.view.count) + " cell types");
+      for (std::size_t c = 0; c < ends.view.count; ++c) grid.offsets.push_back(*ends.view.element(c));
+    } else {
+      std::int64_t end = 0;
+      for (std::size_t c = 0; c < grid.types.size(); ++c) {
+        const int type = grid.types[c];
+        const int size = type == 10 ? 4 : type == 11 || type == 12 ? 8 : type == 13 ? 6 : type == 14 ? 5 : 0;
+        if (size == 0)
+          value_error("offsets", "needed for cell " + std::to_string(c) + " of VTK type " + std::to_string(type) +
+                                     " (offsets may be left out for linear cells only: 10, 11, 12, 13, 14)");
+        grid.offsets.push_back(end += size);
+      }
+    }
+    for (std::size_t c = 0; c < grid.offsets.size(); ++c)
+      if (static_cast<std::uint64_t>(grid.offsets[c]) > grid.connectivity.size() || (c && grid.offsets[c] < grid.offsets[c - 1]))
+        value_error("offsets", "cell " + std::to_string(c) + " ends at " + std::to_string(grid.offsets[c]) +
+                                   ", not within the " + std::to_string(grid.connectivity.size()) +
+                                   " connectivity entries after the cell before");
+    const bool per_point = !values.is_none();
+    const auto data = float_rows(per_point ? values : cell_values, {per_point ? "values" : "cell_values", 1});
+    sciray::io::VtkArray array{"values", 1, {}};
+    for (std::size_t i = 0; i < data.view.count; ++i) array.values.push_back(*data.view.element(i));
+    (per_point ? grid.point_arrays : grid.cell_arrays).push_back(std::move(array));
+    Adder adder;
+    naming_arguments("add_unstructured",
+                     {{"unstructured volume: ", ""}, {"'vertex.position'", "points"}, {"'vertex.data'", "values"},
+                      {"'cell.data'", "cell_values"}, {"'index'", "connectivity"}, {"'cell.type'", "cell_types"},
+                      {"'cell.index'", "offsets"}},
+                     [&] {
+                       auto volume = std::make_shared<const sciray::Unstructured>(
+                           sciray::io::unstructured_volume(grid, "values", "cell_types"));
+                       adder = volume_adder(std::move(volume), options);
+                     });
+    return {adder, false};
+  };
+  return scene.add(std::move(entry));
+}
+
 int add_isosurface(Scene& scene, py::object values, py::object isovalues, py::object spacing, py::object origin,
                    bool cell_centered, py::object colors, const std::optional<Material>& material) {
   const sciray::VolumeGrid grid = grid_of(spacing, origin, cell_centered);
@@ -503,6 +570,18 @@ void bind_scene(py::module_& m) {
           },
           py::arg("values"), py::kw_only(), py::arg("spacing") = py::make_tuple(1, 1, 1),
           py::arg("origin") = py::make_tuple(0, 0, 0), py::arg("cell_centered") = false,
+          py::arg("transfer_function") = py::none(), py::arg("density") = py::none(), py::arg("anisotropy") = 0.f,
+          py::arg("gradient_shading") = 0.f)
+      .def(
+          "add_unstructured",
+          [](Scene& scene, py::object points, py::object connectivity, py::object cell_types, py::object values,
+             py::object cell_values, py::object offsets, std::optional<TransferFunction> tf, std::optional<float> density,
+             float anisotropy, float gradient_shading) {
+            return add_unstructured(scene, points, connectivity, cell_types, values, cell_values, offsets,
+                                    {tf, density, anisotropy, gradient_shading});
+          },
+          py::arg("points"), py::arg("connectivity"), py::arg("cell_types"), py::kw_only(),
+          py::arg("values") = py::none(), py::arg("cell_values") = py::none(), py::arg("offsets") = py::none(),
           py::arg("transfer_function") = py::none(), py::arg("density") = py::none(), py::arg("anisotropy") = 0.f,
           py::arg("gradient_shading") = 0.f)
       .def("add_isosurface", &add_isosurface, py::arg("values"), py::arg("isovalues"), py::kw_only(),

@@ -46,3 +46,27 @@ def test_vtk_objects_render_like_their_arrays():
     surface = sciray.Scene()
     surface.add_mesh(**mesh)
     assert covered(sciray.render(surface, size=(64, 48))).mean() > 0.05
+
+
+def test_unstructured_grids_from_vtk_and_read_vtu(data_dir):
+    vtk = pytest.importorskip("vtk")
+    source = vtk.vtkRTAnalyticSource()
+    source.SetWholeExtent(-6, 6, -6, 6, -6, 6)
+    source.Update()
+    tetrahedra = vtk.vtkDataSetTriangleFilter()  # image cells cut into tetrahedra
+    tetrahedra.SetInputData(source.GetOutput())
+    tetrahedra.Update()
+    grid = sciray.grid_arrays(tetrahedra.GetOutput())
+    assert set(grid["cell_types"].tolist()) == {10} and len(grid["values"]) == 13 ** 3
+    scene = sciray.Scene()
+    scene.add_unstructured(**grid)
+    structured = sciray.Scene()
+    structured.add_volume(**sciray.image_arrays(source.GetOutput()))
+    camera = sciray.Camera(position=(20, 15, 30), look_at=(0, 0, 0))
+    a = np.asarray(sciray.render(scene, camera, size=(64, 48)), np.int32)
+    b = np.asarray(sciray.render(structured, camera, size=(64, 48)), np.int32)
+    assert covered(b).mean() > 0.05
+    # Tetrahedra interpolate linearly where the grid is trilinear: nearly the same picture.
+    assert np.abs(a - b).mean() < 0.5
+    jaw = sciray.grid_arrays(sciray.read_vtu(str(data_dir / "unstructured" / "kiefer_jaw.vtu")))
+    assert "cell_values" in jaw and len(jaw["offsets"]) == len(jaw["cell_types"])

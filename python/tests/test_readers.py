@@ -76,3 +76,31 @@ def test_truncated_or_mislabelled_files_are_named(tmp_path, reader, text):
         reader(str(path))
     with pytest.raises(sciray.Error):
         reader(str(tmp_path / "missing.ply"))
+
+
+def test_unstructured_grid_renders_from_read_vtu_arrays(data_dir):
+    grid = sciray.read_vtu(str(data_dir / "unstructured" / "kiefer_jaw.vtu"))
+    (name, stress), = [(k, v) for k, v in grid["cell_data"].items() if "Stress" in k][:1]
+    scene = sciray.Scene()
+    scene.add_unstructured(grid["points"], grid["connectivity"], grid["cell_types"], cell_values=stress,
+                           offsets=grid["offsets"], density=2.0)
+    assert scene.contents == [{"kind": "unstructured", "index": 0, "shared": False}]
+    image = np.asarray(sciray.render(scene, size=(96, 72)))
+    assert (np.abs(image[..., :3].astype(int) - image[0, 0, :3]).max(axis=-1) > 8).mean() > 0.05
+    # Quadratic tetrahedra (VTK type 24) need their offsets; linear cells do not.
+    assert set(grid["cell_types"].tolist()) == {24}
+    with pytest.raises(ValueError, match="offsets: needed for cell 0 of VTK type 24"):
+        scene.add_unstructured(grid["points"], grid["connectivity"], grid["cell_types"], cell_values=stress)
+    with pytest.raises(ValueError, match="cell 0 has VTK type 5, which is not a volume cell"):
+        scene.add_unstructured(grid["points"], grid["connectivity"], np.full(len(stress), 5), cell_values=stress,
+                               offsets=grid["offsets"])
+    tets = sciray.Scene()
+    corners = grid["connectivity"].reshape(-1, 10)[:, :4]  # a quadratic tetrahedron's corners come first
+    tets.add_unstructured(grid["points"], corners.ravel(), np.full(len(stress), 10), cell_values=stress, density=2.0)
+    assert np.array_equal(np.asarray(sciray.render(tets, size=(96, 72))), image)
+    with pytest.raises(TypeError, match="give values \\(per point\\) or cell_values"):
+        scene.add_unstructured(grid["points"], grid["connectivity"], grid["cell_types"])
+    bad = grid["connectivity"].copy()
+    bad[2] = len(grid["points"])
+    with pytest.raises(ValueError, match="add_unstructured: cell 0 refers to vertex [0-9]+ but points has"):
+        scene.add_unstructured(grid["points"], bad, grid["cell_types"], cell_values=stress, offsets=grid["offsets"])
