@@ -5,6 +5,8 @@
 #include <cstring>
 #include <memory>
 #include <limits>
+#include <mutex>
+#include <optional>
 #include <string>
 
 #include "device.hpp"
@@ -52,6 +54,16 @@ void guarded_void(const char* function, F&& body) {
     body();
     return 0;
   });
+}
+
+/// Serializes what changes objects (parameters, commits, array copies) with what reads
+/// them for a frame (the world's build and the frame's snapshot in ospRenderFrame and
+/// ospPick, bounds): any application thread may call the API, and a frame renders the
+/// state committed before its ospRenderFrame, never a mix (docs/c-api.md, "Threads").
+/// Recursive: an error callback may call the API.
+std::unique_lock<std::recursive_mutex> lock_object_state() {
+  static std::recursive_mutex mutex;
+  return std::unique_lock(mutex);
 }
 
 /// The live object behind a handle, or an error naming the function's argument.
@@ -316,6 +328,7 @@ OSPData ospNewData(OSPDataType type, uint64_t n1, uint64_t n2, uint64_t n3) {
 
 void ospCopyData(const OSPData source, OSPData destination, uint64_t i1, uint64_t i2, uint64_t i3) {
   guarded_void("ospCopyData", [&] {
+    const auto state = lock_object_state();
     auto& from = live_as<Data>(source, OSP_DATA, "source");
     auto& to = live_as<Data>(destination, OSP_DATA, "destination");
     to.copy_from(from, {i1, i2, i3});
@@ -432,6 +445,7 @@ OSPBounds ospGetBounds(OSPObject object) {
                   {-std::numeric_limits<float>::infinity(), -std::numeric_limits<float>::infinity(),
                    -std::numeric_limits<float>::infinity()}};
   return guarded("ospGetBounds", [&] {
+    const auto state = lock_object_state();
     Object& o = live(object, "object");
     if (!o.committed()) throw Error(o.name() + " has not been committed");
     Box3f box;
@@ -453,6 +467,7 @@ OSPBounds ospGetBounds(OSPObject object) {
 
 void ospSetParam(OSPObject object, const char* id, OSPDataType type, const void* mem) {
   guarded_void("ospSetParam", [&] {
+    const auto state = lock_object_state();
     Object& o = live(object, "object");
     if (!id) throw Error(o.name() + ": parameter name is NULL");
     o.set_param(id, type, mem);
@@ -462,6 +477,7 @@ void ospSetParam(OSPObject object, const char* id, OSPDataType type, const void*
 
 void ospRemoveParam(OSPObject object, const char* id) {
   guarded_void("ospRemoveParam", [&] {
+    const auto state = lock_object_state();
     Object& o = live(object, "object");
     if (!id) throw Error(o.name() + ": parameter name is NULL");
     o.remove_param(id);
@@ -471,6 +487,7 @@ void ospRemoveParam(OSPObject object, const char* id) {
 
 void ospCommit(OSPObject object) {
   guarded_void("ospCommit", [&] {
+    const auto state = lock_object_state();
     Object& o = live(object, "object");
     report_unused(o, o.commit());
     if (offload::CommandLog* log = forwarding()) {
@@ -599,8 +616,10 @@ FrameInputs frame_inputs(OSPFrameBuffer fb, OSPRenderer renderer, OSPCamera came
 OSPFuture ospRenderFrame(OSPFrameBuffer fb, OSPRenderer renderer, OSPCamera camera, OSPWorld world) {
   return guarded("ospRenderFrame", [&] {
     Device& dev = device();
+    auto state = lock_object_state();
     if (offload::Session* session = dev.offload()) {
       FrameInputs in = frame_inputs(fb, renderer, camera, world, false);
+      state.unlock();
       auto serve = session->render_frame(in.fb, in.renderer, in.camera, in.world_object, dev.kernels());
       dev.retain();  // the frame may outlive ospShutdown
       auto* future = new Future([serve = std::move(serve), &dev](FrameControl& control) {
@@ -617,20 +636,31 @@ OSPFuture ospRenderFrame(OSPFrameBuffer fb, OSPRenderer renderer, OSPCamera came
     }
     FrameInputs in = frame_inputs(fb, renderer, camera, world);
     if (distributed::Session* session = dev.distributed()) {
+      state.unlock();
       // A collective call: every rank renders and composites before it returns.
       std::lock_guard lock(in.fb->mutex());
       session->render_frame(*in.fb, *in.renderer, *in.camera, *in.world_object, *in.world, dev);
       return handle_of<OSPFuture>(new Future([](FrameControl&) {}));
     }
+    // The frame's state, copied now: commits from here on show in the next frame only.
+    std::optional<shim::RendererConfig> config;
+    std::string config_error;  // reported by the frame, as the frame's other errors
+    try {
+      config = in.renderer->config(*in.world);
+    } catch (const std::exception& e) {
+      config_error = e.what();
+    }
+    const sciray::Camera view = in.camera->camera();
+    const sciray::FrameSettings settings = in.renderer->frame_settings();
+    state.unlock();
     dev.retain();  // the frame may outlive ospShutdown
-    auto task = [in, &dev](FrameControl& control) {
-      const shim::RendererConfig config = in.renderer->config(*in.world);
+    auto task = [in, config = std::move(config), config_error, view, settings, &dev](FrameControl& control) {
       std::lock_guard lock(in.fb->mutex());
       try {
+        if (!config) throw Error(config_error);
         dev.arena().execute([&] {
           // The kernels the world was committed with (the device's when the frame started).
-          in.world->kernels->render(*in.world->world, config, in.camera->camera(), in.fb->frame(), &control,
-                                    in.renderer->frame_settings());
+          in.world->kernels->render(*in.world->world, *config, view, in.fb->frame(), &control, settings);
         });
       } catch (const std::exception& e) {
         dev.error(OSP_UNKNOWN_ERROR, std::string("ospRenderFrame: ") + e.what());
@@ -671,6 +701,7 @@ void ospPick(OSPPickResult* result, OSPFrameBuffer fb, OSPRenderer renderer, OSP
   guarded_void("ospPick", [&] {
     if (!result) throw Error("result is NULL");
     *result = {};
+    auto state = lock_object_state();
     FrameInputs in = frame_inputs(fb, renderer, camera, world);
     // Through the lens centre: a pick asks what is at a screen point, not what one lens sample sees.
     const Ray<float> ray = std::visit([&](const auto& c) { return sciray::prepare(c).generate(x, y, 0.5f, 0.5f); },
