@@ -43,14 +43,14 @@ inline std::vector<Image> render_frames(const shim::EngineWorld& world, const sh
   FrameBuffer fb(width, height, ColorFormat::rgba32f, channel_color | channel_accum);
   const auto& k = kernels();
   for (int f = 0; f < skip; ++f) k.render(world, config, camera, fb, nullptr, settings);
-  std::vector<float> before = fb.accum();
+  std::vector<double> before = fb.accum();
   if (before.empty()) before.assign(4 * fb.pixel_count(), 0.f);
   if (skip == 0) std::fill(before.begin(), before.end(), 0.f);
   std::vector<Image> images;
   for (int f = 0; f < frames; ++f) {
     k.render(world, config, camera, fb, nullptr, settings);
     Image image{width, height, std::vector<double>(3 * fb.pixel_count())};
-    const std::vector<float>& after = fb.accum();
+    const std::vector<double>& after = fb.accum();
     for (std::size_t p = 0; p < fb.pixel_count(); ++p)
       for (int c = 0; c < 3; ++c)
         image.rgb[3 * p + c] = static_cast<double>(after[4 * p + c]) - static_cast<double>(before[4 * p + c]);

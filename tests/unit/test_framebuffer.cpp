@@ -309,7 +309,7 @@ TEST_CASE("lanes with a negative pixel index write nothing", "[frame]") {
 TEST_CASE("frame buffer sizes are checked", "[frame][errors]") {
   CHECK_THROWS_WITH(FrameBuffer(0, 10), Catch::Contains("size 0x10"));
   CHECK_THROWS_WITH(FrameBuffer(65536, 65536), Catch::Contains("fewer than 2^31 pixels"));
-  CHECK(FrameBuffer(3, 5).memory_bytes() == 15 * (4 + 4 * 4 + 4 + 4));
+  CHECK(FrameBuffer(3, 5).memory_bytes() == 15 * (4 + 4 * 8 + 4 + 4));  // sRGB, RGBA sums in double, 2 depths
   CHECK(FrameBuffer(33, 17).tile_count() == 3 * 2);
 }
 

@@ -313,7 +313,7 @@ public:
       const std::uint32_t frames = tile_frames(tile_of(pixel));
       if (frames == 0) continue;
       float rgba[4][1];
-      for (int c = 0; c < 4; ++c) rgba[c][0] = accum_[4 * p + c] / static_cast<float>(frames);
+      for (int c = 0; c < 4; ++c) rgba[c][0] = static_cast<float>(accum_[4 * p + c] / frames);
       output_color<simd::scalar>(&pixel, rgba);
     }
   }
@@ -351,7 +351,7 @@ public:
   /// Distance along the camera's view direction (as a z-buffer holds).
   const std::vector<float>& depth_projected() const { return depth_projected_; }
   /// Sum of the frames' RGBA (divide by the pixel's tile_frames).
-  const std::vector<float>& accum() const { return accum_; }
+  const std::vector<double>& accum() const { return accum_; }
   /// Average world-space normal, xyz per pixel (zero where nothing was hit).
   const std::vector<float>& normal() const { return normal_; }
   /// Average albedo, rgb per pixel.
@@ -367,8 +367,8 @@ public:
   /// Bytes of all channels.
   std::size_t memory_bytes() const {
     return color8_.size() +
-           sizeof(float) * (color32_.size() + depth_.size() + depth_projected_.size() + accum_.size() +
-                            odd_luminance_.size() + odd_rgba_.size() + normal_.size() + albedo_.size()) +
+           sizeof(float) * (color32_.size() + depth_.size() + depth_projected_.size() + normal_.size() + albedo_.size()) +
+           sizeof(double) * (accum_.size() + odd_luminance_.size() + odd_rgba_.size()) +
            sizeof(std::uint32_t) * (primitive_id_.size() + object_id_.size() + instance_id_.size());
   }
 
@@ -403,24 +403,29 @@ private:
         if (pixel[i] < 0) continue;
         const auto p = static_cast<std::size_t>(pixel[i]);
         if (!odd_luminance_.empty()) {
-          float& odd = odd_luminance_[p];
+          double& odd = odd_luminance_[p];
           if (before[i] == 0) odd = 0.f;
           if (in_second_half(before[i])) odd += luminance(rgba[0][i], rgba[1][i], rgba[2][i]);
         }
         if (!odd_rgba_.empty() && before[i] % 2 == 1)
           for (int c = 0; c < 4; ++c) odd_rgba_[4 * p + c] = (before[i] == 1 ? 0.f : odd_rgba_[4 * p + c]) + rgba[c][i];
-        float* acc = &accum_[4 * p];
-        const float inv = 1.f / static_cast<float>(before[i] + 1);
+        // Sums in double: a float sum stops absorbing samples as it grows (a mean of
+        // 100,000 frames would drift by about 1e-3 of its value).
+        double* acc = &accum_[4 * p];
+        const double frames = static_cast<double>(before[i]) + 1.0;
         for (int c = 0; c < 4; ++c) {
           acc[c] = before[i] == 0 ? rgba[c][i] : acc[c] + rgba[c][i];
-          rgba[c][i] = acc[c] * inv;
+          rgba[c][i] = static_cast<float>(acc[c] / frames);
         }
       }
     }
     output_color<Arch>(pixel, rgba);
   }
 
-  static float luminance(float r, float g, float b) { return 0.2126f * r + 0.7152f * g + 0.0722f * b; }
+  template <class T>
+  static T luminance(T r, T g, T b) {
+    return T(0.2126) * r + T(0.7152) * g + T(0.0722) * b;
+  }
 
   /// Calls visit(p) for the pixels of `tile`, row by row.
   template <class Visit>
@@ -449,7 +454,7 @@ private:
     for (int y = y0; y < std::min(y0 + tile_size, height_); ++y)
       for (int x = x0; x < std::min(x0 + tile_size, width_); ++x) {
         const auto p = static_cast<std::size_t>(y) * static_cast<std::size_t>(width_) + static_cast<std::size_t>(x);
-        const float* acc = &accum_[4 * p];
+        const double* acc = &accum_[4 * p];
         const double odd = odd_luminance_[p];
         const double all = luminance(acc[0], acc[1], acc[2]);
         sum += std::abs((all - odd) / even_frames - odd / odd_frames);
@@ -486,8 +491,8 @@ private:
         const auto p = static_cast<std::size_t>(y) * static_cast<std::size_t>(width_) + static_cast<std::size_t>(x);
         float mean[4], difference = 0.f;
         for (int c = 0; c < 4; ++c) {
-          mean[c] = accum_[4 * p + c] * all_scale;
-          difference += std::abs(mean[c] - odd_rgba_[4 * p + c] * odd_scale);
+          mean[c] = static_cast<float>(accum_[4 * p + c]) * all_scale;
+          difference += std::abs(mean[c] - static_cast<float>(odd_rgba_[4 * p + c]) * odd_scale);
         }
         const float brightness = mean[0] + mean[1] + mean[2] + 1.f - mean[3];  // bright alpha weighs more
         if (brightness > 0.f) sum += difference / std::sqrt(brightness);
@@ -588,11 +593,11 @@ private:
   std::vector<float> tile_error_;
   std::vector<ImageOperation> image_operations_;
 
-  std::vector<float> accum_;
-  std::vector<float> odd_luminance_;  // sum over the second half's frames (in_second_half), for the estimate
+  std::vector<double> accum_;  // sums of the frames' samples
+  std::vector<double> odd_luminance_;  // sum over the second half's frames (in_second_half), for the estimate
   // ErrorEstimate::ospray: sums over the odd frames; per OSPRay tile, its error and the
   // frames it was taken at; the refinement's regions.
-  std::vector<float> odd_rgba_;
+  std::vector<double> odd_rgba_;
   int blocks_x_ = 0;
   std::vector<float> block_error_;
   std::vector<std::uint32_t> block_frames_;
