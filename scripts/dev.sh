@@ -3,6 +3,7 @@
 # needs (if missing), configures and builds, then does what was asked:
 #   scripts/dev.sh render   renders the built-in scene to sciray.png
 #   scripts/dev.sh test     runs the whole test suite
+#   scripts/dev.sh packages installs the packages only
 # BUILD_DIR (default build) and JOBS (default: all cores) can be set in the environment.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -20,6 +21,8 @@ if ((${#missing[@]})); then
   $sudo apt-get update
   DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y --no-install-recommends "${missing[@]}"
 fi
+
+[ "${1:-}" = packages ] && exit 0  # only the packages (scripts/sanitize.sh, scripts/fuzz.sh)
 
 build_dir=${BUILD_DIR:-build}
 jobs=${JOBS:-$(nproc)}

@@ -1,0 +1,33 @@
+#!/usr/bin/env bash
+# The test suite under sanitizers, in a build folder of its own:
+#   scripts/sanitize.sh address   AddressSanitizer + UndefinedBehaviorSanitizer (and LeakSanitizer): every test
+#   scripts/sanitize.sh thread    ThreadSanitizer: the tests that run threads against each other
+# BUILD_DIR (default build-asan / build-tsan) and JOBS (default: all cores) can be set. The
+# Python module and the benchmarks are left out (an instrumented extension needs the
+# sanitizer runtime preloaded into python3). Figures: docs/reliability.md.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+kind=${1:-}
+case "$kind" in
+  address) sanitize=address,undefined; default_dir=build-asan ;;
+  thread) sanitize=thread; default_dir=build-tsan ;;
+  *) echo "usage: scripts/sanitize.sh address|thread" >&2; exit 2 ;;
+esac
+build_dir=${BUILD_DIR:-$default_dir}
+jobs=${JOBS:-$(nproc)}
+scripts/dev.sh packages
+cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSCIRAY_SANITIZE=$sanitize -DSCIRAY_BUILD_BENCH=OFF \
+      -DSCIRAY_BUILD_PYTHON=OFF -DPython3_EXECUTABLE=/usr/bin/python3
+cmake --build "$build_dir" -j "$jobs"
+export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=1}
+export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
+export TSAN_OPTIONS=${TSAN_OPTIONS:-halt_on_error=1:second_deadlock_stack=1:suppressions=$PWD/tests/tsan.supp}
+start=$(date +%s)
+if [ "$kind" = thread ]; then
+  # The C API from several threads (frames racing commits, cancels and releases), and the
+  # engine's tile-parallel frames and frame buffers (oneTBB), in one process.
+  "$build_dir/tests/sciray_tests" "[threads],[render],[frame],[distributed]"
+else
+  ctest --test-dir "$build_dir" --output-on-failure -j "$jobs" --timeout 3600
+fi
+echo "sanitize.sh $kind: tests ran clean in $(( $(date +%s) - start )) s"
