@@ -3,7 +3,7 @@
 # needs (if missing), configures and builds, then does what was asked:
 #   scripts/dev.sh render   renders the built-in scene to sciray.png
 #   scripts/dev.sh test     runs the whole test suite
-#   scripts/dev.sh packages installs the packages only
+#   scripts/dev.sh packages [MORE...]  installs the packages (and MORE) only
 # BUILD_DIR (default build) and JOBS (default: all cores) can be set in the environment.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -11,6 +11,8 @@ cd "$(dirname "$0")/.."
 packages=(build-essential cmake pkg-config libembree-dev libxsimd-dev libtbb-dev libstb-dev catch2
           libbenchmark-dev nlohmann-json3-dev libcli11-dev libglm-dev zlib1g-dev libpugixml-dev libtinyobjloader-dev python3 python3-dev pybind11-dev python3-pytest
           python3-matplotlib python3-numpy python3-vtk9 xvfb xauth libopenmpi-dev openmpi-bin)
+# `scripts/dev.sh packages [MORE...]`: these and MORE (scripts/fuzz.sh adds clang).
+[ "${1:-}" = packages ] && packages+=("${@:2}")
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -135,7 +135,7 @@ inline nlohmann::json parse_json_argument(const std::string& text, const std::st
       return nlohmann::json::parse(in);
     }
     return nlohmann::json::parse(text);
-  } catch (const nlohmann::json::parse_error& e) {
+  } catch (const nlohmann::json::exception& e) {  // parse_error, and out_of_range for a number beyond double
     throw sciray::Error(option + ": invalid JSON: " + e.what());
   }
 }

@@ -39,7 +39,7 @@ inline sciray::TransferFunction read_transfer_function(const std::string& file, 
   nlohmann::json j;
   try {
     j = nlohmann::json::parse(in);
-  } catch (const nlohmann::json::parse_error& e) {
+  } catch (const nlohmann::json::exception& e) {  // parse_error, and out_of_range for a number beyond double
     throw sciray::Error(file + ": invalid JSON: " + e.what());
   }
   const auto numbers = [&](const nlohmann::json& v, const std::string& what) {
@@ -65,7 +65,12 @@ inline sciray::TransferFunction read_transfer_function(const std::string& file, 
     if (r.size() != 2) throw sciray::Error(file + ": \"range\" must be [lo, hi]");
     range = {r[0], r[1]};
   }
-  return {std::move(colors), numbers(j["opacities"], "\"opacities\""), range};
+  std::vector<float> opacities = numbers(j["opacities"], "\"opacities\"");
+  try {
+    return {std::move(colors), std::move(opacities), range};
+  } catch (const sciray::Error& e) {  // the table's own checks (finite, not negative, lo < hi) name no file
+    throw sciray::Error(file + ": " + e.what());
+  }
 }
 
 /// The colour map of the test scenes with opacity rising linearly over the value range.

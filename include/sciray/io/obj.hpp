@@ -25,6 +25,7 @@
 #include <sstream>
 #include <string>
 #include <string_view>
+#include <system_error>
 #include <unordered_map>
 #include <vector>
 
@@ -183,9 +184,16 @@ inline Checked check_text(std::string_view text, const std::string& file) {
   return out;
 }
 
+/// Whether `path` is a regular file: false, not a filesystem_error, where it cannot even be
+/// looked up (a name too long for the file system, as an .obj or .mtl may write).
+inline bool is_file(const std::filesystem::path& path) {
+  std::error_code error;
+  return std::filesystem::is_regular_file(path, error);
+}
+
 inline std::string read_text(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary | std::ios::ate);
-  if (!in || !std::filesystem::is_regular_file(path)) throw Error(cat(path.string(), ": cannot open the file"));
+  if (!in || !is_file(path)) throw Error(cat(path.string(), ": cannot open the file"));
   std::string text(static_cast<std::size_t>(std::max<std::streamoff>(in.tellg(), 0)), '\0');
   in.seekg(0);
   if (!in.read(text.data(), static_cast<std::streamsize>(text.size())))
@@ -196,7 +204,8 @@ inline std::string read_text(const std::filesystem::path& path) {
 /// `name` in `folder`, its backslashes read as slashes where the name as written is not there
 /// (files written on Windows).
 inline std::filesystem::path resolve(const std::filesystem::path& folder, std::string name) {
-  if (!std::filesystem::exists(folder / name)) std::replace(name.begin(), name.end(), '\\', '/');
+  if (std::error_code error; !std::filesystem::exists(folder / name, error))
+    std::replace(name.begin(), name.end(), '\\', '/');
   return folder / name;
 }
 
@@ -235,7 +244,7 @@ public:
     const Statement* written = statement(name);
     const std::size_t line = written ? written->line : 0;
     const std::filesystem::path path = resolve(folder_, written ? written->text : name);
-    if (!std::filesystem::is_regular_file(path)) {
+    if (!is_file(path)) {
       missing.push_back({line, written ? written->text : name, path.string()});
       return false;
     }
@@ -271,7 +280,7 @@ public:
                                         const std::string& what) {
     const std::string key = cat(path.string(), "|", std::to_string(int(use)), srgb ? "s" : "", clamp ? "c" : "");
     if (const auto found = cache_.find(key); found != cache_.end()) return found->second;
-    if (!std::filesystem::is_regular_file(path)) throw Error(cat(what, ": cannot open ", path.string()));
+    if (!is_file(path)) throw Error(cat(what, ": cannot open ", path.string()));
     try {
       // read_image takes .png and .pfm; stb behind read_png decodes .jpg, .tga and .bmp too.
       const bool known = path.extension() == ".png" || path.extension() == ".pfm";

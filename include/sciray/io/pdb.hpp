@@ -231,13 +231,16 @@ inline void add_distance_bonds(const std::vector<Atom>& atoms, float tolerance,
   };
 
   // Candidates sorted by bucket (counting sort): bucket b holds order[start[b] .. start[b + 1]).
+  // A coordinate's cell, clamped so that the conversion is defined for any finite float (a
+  // file may write "1e30"): atoms that far share edge cells, and the distance test sorts them.
+  const auto cell_of = [&](float x) {
+    return static_cast<std::int64_t>(std::clamp(std::floor(x * inverse_cell), -0x1p62, 0x1p62));
+  };
   std::vector<Cell> cells(atoms.size());
   std::vector<std::uint32_t> start(buckets + 1, 0);
   for (const std::uint32_t i : candidates) {
     const Vec3f& p = atoms[i].position;
-    cells[i] = {static_cast<std::int64_t>(std::floor(p.x * inverse_cell)),
-                static_cast<std::int64_t>(std::floor(p.y * inverse_cell)),
-                static_cast<std::int64_t>(std::floor(p.z * inverse_cell))};
+    cells[i] = {cell_of(p.x), cell_of(p.y), cell_of(p.z)};
     ++start[bucket_of(cells[i]) + 1];
   }
   for (std::size_t b = 0; b < buckets; ++b) start[b + 1] += start[b];

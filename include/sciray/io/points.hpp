@@ -177,7 +177,8 @@ inline std::vector<Target> plan_vertices(const Element& element, const std::stri
     const Property& property = element.properties[p];
     const auto slot = std::find(found.begin(), found.end(), static_cast<int>(p)) - found.begin();
     if (slot < 3) {
-      targets[p] = {cloud.positions.data() + slot, 3};
+      // Without vertices the positions are empty, and their null data must not be offset.
+      targets[p] = {count ? cloud.positions.data() + slot : nullptr, 3};
     } else if (slot == 3) {
       targets[p] = {cloud.radii.data(), 1};
     } else if (!property.is_list()) {
@@ -343,6 +344,9 @@ inline PointCloud parse_f32xyzr(std::span<const std::byte> bytes, std::string_vi
   const std::size_t count = bytes.size() / record;
   PointCloud cloud;
   cloud.radius_name = "radius";
+  // An empty file is an empty cloud, as an empty .xyz is (to_spheres refuses it); the
+  // gathers below would offset the empty vectors' null data.
+  if (count == 0) return cloud;
   reserve_huge(cloud.positions, 3 * count);
   cloud.positions.resize(3 * count);
   reserve_huge(cloud.radii, count);

@@ -238,6 +238,12 @@ inline std::ifstream open_file(const std::filesystem::path& file) {
   return in;
 }
 
+/// `value` in the fewest digits that read back to it ("1e+300", not 300 digits).
+inline std::string shortest(double value) {
+  char text[32];
+  return {text, std::to_chars(text, text + sizeof text, value).ptr};
+}
+
 /// A finite double parsed from the whole of `text`.
 inline std::optional<double> parse_double(std::string_view text) {
   if (text.size() > 1 && text[0] == '+') text.remove_prefix(1);
@@ -282,14 +288,24 @@ struct Json {
   bool boolean = false;
   std::string text;  ///< a number's digits or a string's value
   std::vector<Json> items;
-  std::vector<std::pair<std::string, Json>> members;
+  // A struct of its own, not std::pair<std::string, Json>: clang with libstdc++ rejects
+  // that pair while Json is incomplete (its checks of Json need the pair complete).
+  struct Member;
+  std::vector<Member> members;
 
-  const Json* find(std::string_view key) const {
-    for (const auto& [name, value] : members)
-      if (name == key) return &value;
-    return nullptr;
-  }
+  const Json* find(std::string_view key) const;
 };
+
+struct Json::Member {
+  std::string name;
+  Json value;
+};
+
+inline const Json* Json::find(std::string_view key) const {
+  for (const auto& [name, value] : members)
+    if (name == key) return &value;
+  return nullptr;
+}
 
 class JsonParser {
 public:
@@ -333,7 +349,7 @@ private:
         std::string name = parse_string();
         skip_space();
         if (!take(":")) error("expected ':' after a member name");
-        value.members.emplace_back(std::move(name), parse_value(depth + 1));
+        value.members.push_back({std::move(name), parse_value(depth + 1)});
         skip_space();
         if (take("}")) return value;
         if (!take(",")) error("expected ',' or '}' in an object");
@@ -486,19 +502,28 @@ inline Sidecar read_sidecar(const std::filesystem::path& file) {
     if (!sidecar.kind)
       fail(file, "unknown voxel type '" + type->text + "' (expected one of " + std::string(kind_list) + ")");
   }
+  // The values are kept as floats: a double beyond float's range would become infinite
+  // (and its conversion is undefined), so it is refused.
+  const auto check_floats = [&](const auto& values, std::string_view key) {
+    for (const double v : values)
+      if (!(std::abs(v) <= std::numeric_limits<float>::max()))
+        fail(file, "'" + std::string(key) + "' value " + shortest(v) + " does not fit a float");
+  };
   if (const Json* spacing = root.find("spacing")) {
     const auto s = json_numbers<3>(spacing, "spacing", "positive numbers", file);
     for (const double v : s)
-      if (!(static_cast<float>(v) > 0.f) || !std::isfinite(static_cast<float>(v)))
+      if (!(v > 0) || !(v <= std::numeric_limits<float>::max()) || !(static_cast<float>(v) > 0.f))
         fail(file, "'spacing' must be an array of 3 positive numbers");
     sidecar.spacing = Vec3f{static_cast<float>(s[0]), static_cast<float>(s[1]), static_cast<float>(s[2])};
   }
   if (const Json* origin = root.find("origin")) {
     const auto o = json_numbers<3>(origin, "origin", "finite numbers", file);
+    check_floats(o, "origin");
     sidecar.origin = Vec3f{static_cast<float>(o[0]), static_cast<float>(o[1]), static_cast<float>(o[2])};
   }
   if (const Json* range = root.find("range")) {
     const auto r = json_numbers<2>(range, "range", "finite numbers, the smaller first", file);
+    check_floats(r, "range");
     if (r[0] > r[1]) fail(file, "'range' must be an array of 2 finite numbers, the smaller first");
     sidecar.range = std::array<float, 2>{static_cast<float>(r[0]), static_cast<float>(r[1])};
   }

@@ -16,6 +16,7 @@
 #include <cstdint>
 #include <cstring>
 #include <fstream>
+#include <limits>
 #include <sstream>
 #include <string>
 #include <string_view>
@@ -137,18 +138,26 @@ inline std::vector<std::uint8_t> payload(std::string_view block, bool base64, co
     return {raw.begin() + static_cast<std::ptrdiff_t>(word), raw.begin() + static_cast<std::ptrdiff_t>(word + n)};
   }
   // Compressed: [blocks, block size, last block size, compressed size of each block], then the blocks.
+  // A block count the data cannot hold is refused before (3 + blocks) * word can overflow.
+  const auto check_blocks = [&](std::uint64_t blocks) {
+    if (blocks > block.size() / word)
+      c.fail(where + ": the data block is truncated (its header counts " + std::to_string(blocks) +
+             " zlib blocks, more than its " + std::to_string(block.size()) + " bytes hold)");
+  };
   std::vector<std::uint8_t> header, data;
   std::size_t header_text = 0;
   if (base64) {
     const std::vector<std::uint8_t> first = decode_base64(block.substr(0, std::min(block.size(), base64_length(3 * word))), c, where);
     need(first.size(), 3 * word);
     const std::uint64_t blocks = read_header_word(first.data(), c);
+    check_blocks(blocks);
     header_text = base64_length((3 + blocks) * word);
     need(block.size(), header_text);
     header = decode_base64(block.substr(0, header_text), c, where);
   } else {
     need(block.size(), 3 * word);
     const std::uint64_t blocks = read_header_word(reinterpret_cast<const std::uint8_t*>(block.data()), c);
+    check_blocks(blocks);
     need(block.size(), (3 + blocks) * word);
     header.assign(block.begin(), block.begin() + static_cast<std::ptrdiff_t>((3 + blocks) * word));
   }
@@ -157,7 +166,12 @@ inline std::vector<std::uint8_t> payload(std::string_view block, bool base64, co
   const std::uint64_t last_size = read_header_word(header.data() + 2 * word, c);
   need(header.size(), (3 + blocks) * word);
   std::uint64_t compressed_total = 0;
-  for (std::uint64_t b = 0; b < blocks; ++b) compressed_total += read_header_word(header.data() + (3 + b) * word, c);
+  for (std::uint64_t b = 0; b < blocks; ++b) {
+    const std::uint64_t size = read_header_word(header.data() + (3 + b) * word, c);
+    if (size > std::numeric_limits<std::uint64_t>::max() - compressed_total)  // a sum that wraps would pass `need`
+      c.fail(where + ": the data block is truncated (its zlib blocks' sizes add up to more than 64 bits hold)");
+    compressed_total += size;
+  }
   if (base64) {
     data = decode_base64(block.substr(header_text), c, where);
   } else {
@@ -175,8 +189,8 @@ inline std::vector<std::uint8_t> payload(std::string_view block, bool base64, co
     // zlib expands at most 1032 times: a header that says more is corrupt (and would
     // make us allocate what it says).
     if (expected > 1032 * size + 64)
-      throw Error(where + ": zlib block " + std::to_string(b) + " says " + std::to_string(size) +
-                  " compressed bytes hold " + std::to_string(expected) + ", more than zlib can expand them to");
+      c.fail(where + ": zlib block " + std::to_string(b) + " says " + std::to_string(size) +
+             " compressed bytes hold " + std::to_string(expected) + ", more than zlib can expand them to");
     const std::size_t from = out.size();
     out.resize(from + expected);
     uLongf length = static_cast<uLongf>(expected);
@@ -185,6 +199,12 @@ inline std::vector<std::uint8_t> payload(std::string_view block, bool base64, co
     at += size;
   }
   return out;
+}
+
+/// `x` as an index or count; -1 (which every range check refuses) when it is not finite or
+/// beyond ±2^62, where the conversion would be undefined.
+inline std::int64_t whole_number(double x) {
+  return x >= -0x1p62 && x <= 0x1p62 ? static_cast<std::int64_t>(x) : -1;
 }
 
 /// The size in bytes of VTK number type `type`, or 0 for one that is not.
@@ -332,11 +352,27 @@ inline UnstructuredGridFile read_vtu(const std::string& path) {
     const std::string name = a.attribute("Name").as_string();
     if (name != "connectivity" && name != "offsets" && name != "types") continue;
     const VtkArray v = read_array(a, c, name == "connectivity" ? 0 : cells);
+    // Checked before they are converted: a value beyond the integer type is undefined behaviour.
+    const auto refuse = [&](std::size_t i, double value, const std::string& what) {
+      std::ostringstream text;
+      text << value;
+      c.fail("Cells '" + name + "' value " + std::to_string(i) + " is " + text.str() + ", not " + what);
+    };
     if (name == "types") {
-      for (double t : v.values) out.types.push_back(static_cast<std::uint8_t>(t));
+      for (std::size_t i = 0; i < v.values.size(); ++i) {
+        const double type = v.values[i];
+        if (!(type >= 0 && type <= 255) || type != std::floor(type))
+          refuse(i, type, "a VTK cell type (an integer from 0 to 255)");
+        out.types.push_back(static_cast<std::uint8_t>(type));
+      }
     } else {
       auto& target = name == "connectivity" ? out.connectivity : out.offsets;
-      for (double x : v.values) target.push_back(static_cast<std::int64_t>(x));
+      for (std::size_t i = 0; i < v.values.size(); ++i) {
+        const std::int64_t value = whole_number(v.values[i]);
+        if (value < 0 || static_cast<double>(value) != v.values[i])
+          refuse(i, v.values[i], "an index (an integer from 0 to 2^62)");
+        target.push_back(value);
+      }
     }
   }
   if (out.offsets.size() != cells || out.types.size() != cells)

@@ -95,12 +95,6 @@ void for_each_value(const StoredArray& a, F&& f) {
     loop(double{});
 }
 
-/// `x` as an index or count; -1 (which every range check refuses) when it is not finite or
-/// beyond ±2^62, where the conversion would be undefined.
-inline std::int64_t whole_number(double x) {
-  return x >= -0x1p62 && x <= 0x1p62 ? static_cast<std::int64_t>(x) : -1;
-}
-
 /// `v` as a T: integers clamped to T's range (NaN as 0), where a plain conversion is undefined.
 template <class T>
 T narrow(double v) {

@@ -1,0 +1,8 @@
+// VTK XML image data (.vti).
+#include "fuzz_support.hpp"
+#include "sciray/io/vtk_image.hpp"
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  const auto path = sciray_fuzz::write_file("f.vti", sciray_fuzz::text_of(data, size));
+  return sciray_fuzz::run([&] { sciray::io::read_vti(path.string()); });
+}
