@@ -69,7 +69,7 @@ sciray::PerspectiveCamera read_camera(const std::string& file, float aspect) {
   nlohmann::json j;
   try {
     j = nlohmann::json::parse(in);
-  } catch (const nlohmann::json::parse_error& e) {
+  } catch (const nlohmann::json::exception& e) {  // parse_error, and out_of_range for a number beyond double
     throw sciray::Error(file + ": invalid JSON: " + e.what());
   }
   if (!j.is_object()) throw sciray::Error(file + ": expected a JSON object");
@@ -600,6 +600,10 @@ int main(int argc, char** argv) {
   try {
     if (*info_cmd) return info(info_isa);
     return render(opt);
+  } catch (const std::bad_alloc&) {
+    std::cerr << "sciray: error: out of memory (the scene, its BVH or the image does not fit in the memory this "
+                 "process may use)\n";
+    return 1;
   } catch (const std::exception& e) {
     std::cerr << "sciray: error: " << e.what() << "\n";
     return 1;

@@ -163,3 +163,15 @@ def test_the_module_renders_what_the_tool_renders(tmp_path):
     tool_image = matplotlib.image.imread(out) * 255.0
     rmse = np.sqrt(np.mean((module - tool_image) ** 2))
     assert rmse < 0.5, rmse
+
+
+def test_image_sizes_are_limited():
+    scene = cube_scene()
+    with pytest.raises(ValueError, match=r"size: width and height are limited to 32768"):
+        sciray.Session(scene, size=(40000, 8))
+    with pytest.raises(ValueError, match=r"size: expected \(width, height\) of at least 1 pixel, got \(0, 8\)"):
+        sciray.Session(scene, size=(0, 8))
+    with pytest.raises(ValueError, match="dtype: expected 'uint8' \\(sRGB\\) or 'float32' \\(linear\\), got 'float16'"):
+        sciray.Session(scene, dtype="float16")
+    with pytest.raises(ValueError, match="channels: unknown channel 'ids'"):
+        sciray.Session(scene, channels=["ids"])

@@ -313,6 +313,23 @@ TEST_CASE("frame buffer sizes are checked", "[frame][errors]") {
   CHECK(FrameBuffer(33, 17).tile_count() == 3 * 2);
 }
 
+TEST_CASE("frame buffers beyond the machine's memory and swap are refused before allocating", "[frame][errors][limits]") {
+  // 46000² pixels (just under 2^31) with every channel: about 150 GB.
+  const unsigned all = channel_color | channel_depth | channel_accum | channel_variance | channel_normal |
+                       channel_albedo | channel_id_primitive | channel_id_object | channel_id_instance;
+  const std::size_t needed = std::size_t{46000} * 46000 *
+                             FrameBuffer::bytes_per_pixel(ColorFormat::rgba32f, all, ErrorEstimate::ospray);
+  CHECK(FrameBuffer::bytes_per_pixel(ColorFormat::srgba, channel_color | channel_depth | channel_accum,
+                                     ErrorEstimate::luminance) == 4 + 8 + 32);
+  if (needed <= detail::memory_and_swap_bytes()) {
+    WARN("this machine has the memory for a 46000x46000 frame buffer: its refusal is not tested here");
+    return;
+  }
+  CHECK_THROWS_WITH(FrameBuffer(46000, 46000, ColorFormat::rgba32f, all, ErrorEstimate::ospray),
+                    Catch::Contains("framebuffer: 46000x46000 with these channels needs") &&
+                        Catch::Contains("GB of memory and swap"));
+}
+
 TEST_CASE("pixel filters: offsets distributed as OSPRay's filter tables, the centre for (1/2, 1/2)",
           "[frame][filter]") {
   CHECK(FilterSampler::of(PixelFilter::point).sample(0.1f, 0.9f).x == 0.f);

@@ -577,3 +577,30 @@ TEST_CASE("sciray render: a Wavefront OBJ scene with its materials", "[tool][obj
   CHECK(bad.exit_code != 0);
   CHECK_THAT(bad.output, Catch::Contains("bad.obj"));
 }
+
+TEST_CASE("sciray render: running out of memory is an error, not an abort", "[tool][limits]") {
+#ifdef SCIRAY_SANITIZED
+  WARN("not under a sanitizer, whose shadow memory needs more address space than the limit leaves");
+#else
+  // A million triangles under address-space limits that leave too little for the mesh or
+  // its BVH (about 350 MB in all): each run ends with an error naming it, exit status 1.
+  int out_of_memory = 0;
+  for (const int kilobytes : {220'000, 260'000}) {
+    const std::string command = "ulimit -v " + std::to_string(kilobytes) + "; " + std::string(SCIRAY_TOOL) +
+                                " render builtin:torus_1M --size 32x32 --quiet -o " + scratch("oom.png").string() +
+                                " 2>&1";
+    FILE* pipe = popen(command.c_str(), "r");
+    REQUIRE(pipe);
+    std::string output;
+    std::array<char, 4096> buffer;
+    while (const std::size_t n = std::fread(buffer.data(), 1, buffer.size(), pipe)) output.append(buffer.data(), n);
+    const int status = pclose(pipe);
+    INFO("limit " << kilobytes << " kB: " << output);
+    REQUIRE(WIFEXITED(status));  // not killed by a signal (an abort)
+    CHECK(WEXITSTATUS(status) == 1);
+    CHECK(output.find("sciray: error: ") != std::string::npos);
+    out_of_memory += output.find("out of memory") != std::string::npos;
+  }
+  CHECK(out_of_memory >= 1);
+#endif
+}
