@@ -16,59 +16,31 @@
 #include <ospray/ospray_util.h>
 
 #include "support/api_fixture.hpp"
+#include "support/c_api_scenes.hpp"
 
 namespace {
 
 constexpr int width = 48, height = 36;
 
-/// Two spheres in an instance whose transform the tests move, a camera, a renderer.
-struct Scene {
+OSPGeometry two_spheres() {
   OSPGeometry spheres = ospNewGeometry("sphere");
-  OSPGeometricModel model;
-  OSPGroup group = ospNewGroup();
-  OSPInstance instance;
-  OSPWorld world = ospNewWorld();
-  OSPCamera camera = ospNewCamera("perspective");
-  OSPRenderer renderer = ospNewRenderer("scivis");
+  const float centers[] = {-0.6f, 0.f, 0.f, 0.7f, 0.2f, 0.f};
+  OSPData data = ospNewSharedData1D(centers, OSP_VEC3F, 2);
+  OSPData copy = ospNewData1D(OSP_VEC3F, 2);
+  ospCopyData1D(data, copy, 0);
+  ospSetObject(spheres, "sphere.position", copy);
+  ospSetFloat(spheres, "radius", 0.5f);
+  ospRelease(data);
+  ospRelease(copy);
+  ospCommit(spheres);
+  return spheres;
+}
 
-  Scene() {
-    const float centers[] = {-0.6f, 0.f, 0.f, 0.7f, 0.2f, 0.f};
-    OSPData data = ospNewSharedData1D(centers, OSP_VEC3F, 2);
-    OSPData copy = ospNewData1D(OSP_VEC3F, 2);
-    ospCopyData1D(data, copy, 0);
-    ospSetObject(spheres, "sphere.position", copy);
-    ospSetFloat(spheres, "radius", 0.5f);
-    ospRelease(data);
-    ospRelease(copy);
-    ospCommit(spheres);
-    model = ospNewGeometricModel(spheres);
-    ospCommit(model);
-    ospSetObjectAsData(group, "geometry", OSP_GEOMETRIC_MODEL, model);
-    ospCommit(group);
-    instance = ospNewInstance(group);
-    ospCommit(instance);
-    ospSetObjectAsData(world, "instance", OSP_INSTANCE, instance);
-    ospCommit(world);
-    place_camera(0.f);
-    ospSetFloat(camera, "aspect", static_cast<float>(width) / height);
-    ospCommit(camera);
-    ospSetInt(renderer, "pixelSamples", 1);
-    ospCommit(renderer);
-  }
-  ~Scene() {
-    for (OSPObject o : {static_cast<OSPObject>(spheres), static_cast<OSPObject>(model), static_cast<OSPObject>(group),
-                        static_cast<OSPObject>(instance), static_cast<OSPObject>(world), static_cast<OSPObject>(camera),
-                        static_cast<OSPObject>(renderer)})
-      ospRelease(o);
-  }
-  Scene(const Scene&) = delete;
-  Scene& operator=(const Scene&) = delete;
+/// Two spheres in an instance whose transform the tests move, seen by a camera they move.
+struct Scene : sciray_test::GeometryScene {
+  Scene() : GeometryScene(two_spheres()) {}
 
-  void place_camera(float x) {
-    ospSetVec3f(camera, "position", x, 0.f, 4.f);
-    ospSetVec3f(camera, "direction", 0.f, 0.f, -1.f);
-    ospCommit(camera);
-  }
+  void place_camera(float x) { look_from(x, 0.f, -5.f); }
   void move_instance(float dx) {
     const float xfm[12] = {1, 0, 0, 0, 1, 0, 0, 0, 1, dx, 0, 0};
     ospSetParam(instance, "transform", OSP_AFFINE3F, xfm);

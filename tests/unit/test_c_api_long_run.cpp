@@ -1,4 +1,4 @@
-// 10,000 commit/render/release cycles of a changing scene through the C API: resident
+// 10,000 create/commit/render/release cycles of a changing scene through the C API: resident
 // memory stays flat after warm-up (docs/reliability.md).
 #include <catch2/catch.hpp>
 
@@ -11,6 +11,7 @@
 #include <ospray/ospray_util.h>
 
 #include "support/api_fixture.hpp"
+#include "support/c_api_scenes.hpp"
 
 namespace {
 
@@ -24,62 +25,44 @@ long resident_bytes() {
   return pages_resident * sysconf(_SC_PAGESIZE);
 }
 
-/// One cycle: a mesh whose vertices move with `k`, in a new world, rendered into a new
-/// frame buffer, and everything released.
-void cycle(int k, OSPRenderer renderer, OSPCamera camera) {
+/// One cycle: a scene (mesh, model, group, instance, world, light, camera, renderer) whose
+/// vertices move with `k`, rendered into a new frame buffer, and everything released.
+void cycle(int k) {
   const float shift = 0.001f * static_cast<float>(k % 100);
   std::vector<float> vertices;
   std::vector<unsigned> indices;
-  for (int i = 0; i < 64; ++i) {
+  for (unsigned i = 0; i < 64; ++i) {
     const float x = static_cast<float>(i % 8) / 8.f - 0.5f + shift, y = static_cast<float>(i / 8) / 8.f - 0.5f;
     vertices.insert(vertices.end(), {x, y, 0.f, x + 0.1f, y, 0.f, x, y + 0.1f, 0.f});
-    indices.insert(indices.end(), {3u * i, 3u * i + 1, 3u * i + 2});
+    indices.insert(indices.end(), {3 * i, 3 * i + 1, 3 * i + 2});
   }
   OSPGeometry mesh = ospNewGeometry("mesh");
   OSPData position = ospNewSharedData1D(vertices.data(), OSP_VEC3F, vertices.size() / 3);
   OSPData index = ospNewSharedData1D(indices.data(), OSP_VEC3UI, indices.size() / 3);
   ospSetObject(mesh, "vertex.position", position);
   ospSetObject(mesh, "index", index);
+  ospRelease(position);
+  ospRelease(index);
   ospCommit(mesh);
-  OSPGeometricModel model = ospNewGeometricModel(mesh);
-  ospCommit(model);
-  OSPGroup group = ospNewGroup();
-  ospSetObjectAsData(group, "geometry", OSP_GEOMETRIC_MODEL, model);
-  ospCommit(group);
-  OSPInstance instance = ospNewInstance(group);
-  ospCommit(instance);
-  OSPWorld world = ospNewWorld();
-  ospSetObjectAsData(world, "instance", OSP_INSTANCE, instance);
-  ospCommit(world);
+  const sciray_test::GeometryScene scene(mesh);
   OSPFrameBuffer fb = ospNewFrameBuffer(16, 16, OSP_FB_SRGBA, OSP_FB_COLOR | OSP_FB_ACCUM);
-  ospRenderFrameBlocking(fb, renderer, camera, world);
-  for (OSPObject o : {static_cast<OSPObject>(fb), static_cast<OSPObject>(world), static_cast<OSPObject>(instance),
-                      static_cast<OSPObject>(group), static_cast<OSPObject>(model), static_cast<OSPObject>(index),
-                      static_cast<OSPObject>(position), static_cast<OSPObject>(mesh)})
-    ospRelease(o);
+  ospRenderFrameBlocking(fb, scene.renderer, scene.camera, scene.world);
+  ospRelease(fb);
 }
 
 }  // namespace
 
 TEST_CASE("C API: 10,000 commit/render/release cycles keep resident memory flat", "[c_api][memory][long]") {
   sciray_test::ApiFixture api;
-  OSPRenderer renderer = ospNewRenderer("scivis");
-  ospCommit(renderer);
-  OSPCamera camera = ospNewCamera("perspective");
-  ospSetVec3f(camera, "position", 0.f, 0.f, 2.f);
-  ospSetVec3f(camera, "direction", 0.f, 0.f, -1.f);
-  ospCommit(camera);
   constexpr int warm_up = 1'000, cycles = 10'000;
-  for (int k = 0; k < warm_up; ++k) cycle(k, renderer, camera);
+  for (int k = 0; k < warm_up; ++k) cycle(k);
   const long after_warm_up = resident_bytes();
-  for (int k = 0; k < cycles; ++k) cycle(k, renderer, camera);
+  for (int k = 0; k < cycles; ++k) cycle(k);
   const long after = resident_bytes();
   const double growth = static_cast<double>(after - after_warm_up) / static_cast<double>(after_warm_up);
   std::printf("[long run] resident memory after %d warm-up cycles %.1f MB, after %d more %.1f MB (%+.3f %%)\n", warm_up,
               after_warm_up / 1e6, cycles, after / 1e6, 100.0 * growth);
   REQUIRE(after_warm_up > 0);
   CHECK(growth < 0.01);
-  ospRelease(camera);
-  ospRelease(renderer);
   CHECK(api.messages.errors.empty());
 }

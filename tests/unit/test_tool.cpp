@@ -21,8 +21,8 @@ struct Run {
   std::string output;  // stdout and stderr
 };
 
-Run run_tool(const std::string& arguments) {
-  const std::string command = std::string(SCIRAY_TOOL) + " " + arguments + " 2>&1";
+/// Runs a shell command line, collecting what it prints; exit_code -1 when a signal ended it.
+Run run_shell(const std::string& command) {
   FILE* pipe = popen(command.c_str(), "r");
   REQUIRE(pipe);
   std::string output;
@@ -31,6 +31,8 @@ Run run_tool(const std::string& arguments) {
   const int status = pclose(pipe);
   return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
 }
+
+Run run_tool(const std::string& arguments) { return run_shell(std::string(SCIRAY_TOOL) + " " + arguments + " 2>&1"); }
 
 std::filesystem::path scratch(const std::string& name) {
   const auto dir = std::filesystem::temp_directory_path() / "sciray_tool_test";
@@ -503,14 +505,9 @@ TEST_CASE("sciray render: a progress line on a terminal only, and not with --qui
                              " render builtin:cornell_box --renderer pathtracer --size 256x256 --frames 24 -o " +
                              scratch("progress.png").string();
   const auto on_terminal = [](const std::string& command) {
-    const std::string wrapped = "script -qec '" + command + "' /dev/null 2>&1";
-    FILE* pipe = popen(wrapped.c_str(), "r");
-    REQUIRE(pipe);
-    std::string output;
-    std::array<char, 4096> buffer;
-    while (const std::size_t n = std::fread(buffer.data(), 1, buffer.size(), pipe)) output.append(buffer.data(), n);
-    CHECK(pclose(pipe) == 0);
-    return output;
+    const Run run = run_shell("script -qec '" + command + "' /dev/null 2>&1");
+    CHECK(run.exit_code == 0);
+    return run.output;
   };
   const std::string shown = on_terminal(render);
   INFO(shown);
@@ -586,20 +583,12 @@ TEST_CASE("sciray render: running out of memory is an error, not an abort", "[to
   // its BVH (about 350 MB in all): each run ends with an error naming it, exit status 1.
   int out_of_memory = 0;
   for (const int kilobytes : {220'000, 260'000}) {
-    const std::string command = "ulimit -v " + std::to_string(kilobytes) + "; " + std::string(SCIRAY_TOOL) +
-                                " render builtin:torus_1M --size 32x32 --quiet -o " + scratch("oom.png").string() +
-                                " 2>&1";
-    FILE* pipe = popen(command.c_str(), "r");
-    REQUIRE(pipe);
-    std::string output;
-    std::array<char, 4096> buffer;
-    while (const std::size_t n = std::fread(buffer.data(), 1, buffer.size(), pipe)) output.append(buffer.data(), n);
-    const int status = pclose(pipe);
-    INFO("limit " << kilobytes << " kB: " << output);
-    REQUIRE(WIFEXITED(status));  // not killed by a signal (an abort)
-    CHECK(WEXITSTATUS(status) == 1);
-    CHECK(output.find("sciray: error: ") != std::string::npos);
-    out_of_memory += output.find("out of memory") != std::string::npos;
+    const Run run = run_shell("ulimit -v " + std::to_string(kilobytes) + "; " + std::string(SCIRAY_TOOL) +
+                              " render builtin:torus_1M --size 32x32 --quiet -o " + scratch("oom.png").string() + " 2>&1");
+    INFO("limit " << kilobytes << " kB: " << run.output);
+    CHECK(run.exit_code == 1);  // not -1: no signal, no abort
+    CHECK(run.output.find("sciray: error: ") != std::string::npos);
+    out_of_memory += run.output.find("out of memory") != std::string::npos;
   }
   CHECK(out_of_memory >= 1);
 #endif
