@@ -211,25 +211,10 @@ public:
     if (threads < 0) value_error("threads", "must not be negative (0: all cores)");
   }
 
-  /// Renders one more frame into the accumulation.
+  /// Renders one more frame into the accumulation (a cancel() before it is forgotten).
   void render_frame() {
-    if (renderer_->closed) throw py::value_error("renderer: Renderer('" + renderer_->type + "') is closed");
-    scene_->commit_if_changed();
-    const float aspect = static_cast<float>(fb_.width()) / static_cast<float>(fb_.height());
-    const sciray::Camera camera = engine_camera(aspect);
-    sciray::shim::RendererConfig config = renderer_->config;
-    std::visit(
-        [&](auto& params) {
-          params.materials = scene_->materials();
-          params.lights = scene_->lights().empty()
-                              ? sciray_tool::desk_lamp_lights(std::visit([](const auto& c) -> const sciray::CameraCommon& { return c; }, camera))
-                              : scene_->lights();
-        },
-        config);
     control_.cancel = false;
-    py::gil_scoped_release release;
-    std::shared_lock lock(scene_->frames_lock());
-    arena_.execute([&] { scene_->kernels().render(scene_->world(), config, camera, fb_, &control_, renderer_->settings); });
+    render_one();
   }
 
   /// Up to `frames` frames, or until the estimated error is `error_target`, `callback`
@@ -237,10 +222,12 @@ public:
   int render(int frames, const py::object& callback, float error_target) {
     if (frames < 1) value_error("frames", "must be at least 1");
     if (!(error_target >= 0.f)) value_error("error_target", "must not be negative");
+    control_.cancel = false;
     int rendered = 0;
     for (; rendered < frames; ++rendered) {
       if (error_target > 0.f && fb_.variance() <= error_target) break;
-      render_frame();
+      if (control_.cancel) break;  // cancelled between frames (during a callback)
+      render_one();
       if (control_.cancel) break;
       if (!callback.is_none()) {
         const py::object go_on = callback(py::cast(this, py::return_value_policy::reference));
@@ -293,11 +280,9 @@ public:
     const sciray::Ray<float> ray =
         std::visit([&](const auto& c) { return sciray::prepare(c).generate(sx, sy, 0.5f, 0.5f); }, engine_camera(aspect));
     sciray::shim::TraceResult hit{};
-    {
-      py::gil_scoped_release release;
-      std::shared_lock lock(scene_->frames_lock());
-      scene_->kernels().trace(scene_->world(), std::span(&ray, 1), std::span(&hit, 1));
-    }
+    scene_->with_world([&](const EngineWorld& world, const auto&) {
+      scene_->kernels().trace(world, std::span(&ray, 1), std::span(&hit, 1));
+    });
     if (hit.geom_id < 0) return py::none();
     const sciray::Vec3f p = ray.org + ray.dir * hit.t;
     return py::dict(py::arg("position") = py::make_tuple(p.x, p.y, p.z), py::arg("geometry") = hit.geom_id,
@@ -305,6 +290,22 @@ public:
   }
 
 private:
+  void render_one() {
+    if (renderer_->closed) throw py::value_error("renderer: Renderer('" + renderer_->type + "') is closed");
+    scene_->commit_if_changed();
+    const float aspect = static_cast<float>(fb_.width()) / static_cast<float>(fb_.height());
+    const sciray::Camera camera = engine_camera(aspect);
+    const sciray::CameraCommon& view = std::visit([](const auto& c) -> const sciray::CameraCommon& { return c; }, camera);
+    // Lights change only with the GIL held (add_light), materials only under commit's lock.
+    const std::vector<sciray::Light> lights =
+        scene_->lights().empty() ? sciray_tool::desk_lamp_lights(view) : scene_->lights();
+    scene_->with_world([&](const EngineWorld& world, const std::vector<sciray::Material>& materials) {
+      sciray::shim::RendererConfig config = renderer_->config;
+      std::visit([&](auto& params) { params.materials = materials, params.lights = lights; }, config);
+      arena_.execute([&] { scene_->kernels().render(world, config, camera, fb_, &control_, renderer_->settings); });
+    });
+  }
+
   static int checked_width(std::pair<int, int> size) {
     if (size.first < 1 || size.second < 1)
       value_error("size", "expected (width, height) of at least 1 pixel, got (" + std::to_string(size.first) + ", " +

@@ -489,30 +489,47 @@ int Scene::add(SceneEntry entry) {
 }
 
 void Scene::commit() {
-  for (SceneEntry& entry : entries_) entry.built = entry.build();
-  dirty_ = true;
-  commit_if_changed();
+  std::vector<Built> builts;
+  for (SceneEntry& entry : entries_) builts.push_back(entry.build());
+  install(std::move(builts));
 }
 
 void Scene::commit_if_changed() {
   if (!dirty_) return;
-  py::gil_scoped_release release;
-  std::unique_lock lock(frames_lock_);
-  materials_.clear();
+  std::vector<Built> builts;
+  for (const SceneEntry& entry : entries_) builts.push_back(entry.built);
+  install(std::move(builts));
+}
+
+void Scene::install(std::vector<Built> builts) {
+  // Taken with the GIL: other Python threads may add to the scene while the world builds.
+  const std::size_t count = builts.size();
+  std::vector<std::optional<sciray::Material>> wanted;
+  for (std::size_t i = 0; i < count; ++i) wanted.push_back(entries_[i].material);
   auto world = std::make_unique<EngineWorld>(*device_);
-  for (const SceneEntry& entry : entries_) {
-    std::uint32_t material = sciray::no_material;
-    if (entry.material) material = static_cast<std::uint32_t>(materials_.size()), materials_.push_back(*entry.material);
-    entry.built.add(*world, material);
+  std::vector<sciray::Material> materials;
+  {
+    // Built beside the world frames are reading, which only the swap below waits for.
+    py::gil_scoped_release release;
+    for (std::size_t i = 0; i < count; ++i) {
+      std::uint32_t material = sciray::no_material;
+      if (wanted[i]) material = static_cast<std::uint32_t>(materials.size()), materials.push_back(*wanted[i]);
+      builts[i].add(*world, material);
+    }
+    kernels_->commit(*world);
+    std::unique_lock lock(frames_lock_);
+    std::swap(world_, world);
+    std::swap(materials_, materials);
   }
-  kernels_->commit(*world);
-  world_ = std::move(world);
-  dirty_ = false;
+  for (std::size_t i = 0; i < count; ++i) std::swap(entries_[i].built, builts[i]);
+  dirty_ = entries_.size() != count;  // added to meanwhile: the next frame commits again
+  // The old world goes first, then the old engine objects (and the arrays they kept), with the GIL.
+  world.reset();
 }
 
 sciray::Box3f Scene::bounds() {
   commit_if_changed();
-  return world_->bounds();
+  return with_world([](const EngineWorld& world, const auto&) { return world.bounds(); });
 }
 
 Material make_material(const std::string& type, const py::kwargs& params) {

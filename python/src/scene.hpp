@@ -72,25 +72,30 @@ public:
   void add_light(const Light& light) { lights_.push_back(light.light), dirty_ = true; }
   const std::vector<sciray::Light>& lights() const { return lights_; }
 
-  /// Reads every array again and builds the BVH (the GIL released meanwhile); waits for
-  /// frames rendering this scene to end.
+  /// Reads every array again and builds a new world and BVH (the GIL released meanwhile);
+  /// frames in progress keep the old world, and the new one replaces it between frames.
   void commit();
   /// Commits if something was added since the last commit.
   void commit_if_changed();
 
-  const EngineWorld& world() const { return *world_; }
   const sciray::shim::IsaKernels& kernels() const { return *kernels_; }
+  /// Runs `use(world, materials)` with the GIL released and no commit in progress: frames
+  /// (several at once), picks and bounds read the committed world through it. `materials`:
+  /// those of the geometries that have one, in the order commit gave them indices.
+  template <class Use>
+  auto with_world(Use&& use) {
+    py::gil_scoped_release release;
+    std::shared_lock lock(frames_lock_);
+    return use(static_cast<const EngineWorld&>(*world_), static_cast<const std::vector<sciray::Material>&>(materials_));
+  }
   sciray::Box3f bounds();
-  /// The materials of the geometries that have one, in the order commit gave them indices.
-  const std::vector<sciray::Material>& materials() const { return materials_; }
   const std::vector<SceneEntry>& entries() const { return entries_; }
-  /// Held shared by frames, exclusively by commit.
-  std::shared_mutex& frames_lock() { return frames_lock_; }
   int geometry_count() const { return geometries_; }
   int volume_count() const { return volumes_; }
 
 private:
-  void rebuild_world();
+  /// Builds a world of `builts` (the entries', in order) and puts both in place.
+  void install(std::vector<Built> builts);
 
   const sciray::shim::IsaKernels* kernels_;
   std::unique_ptr<sciray::accel::Device> device_;

@@ -175,3 +175,42 @@ def test_image_sizes_are_limited():
         sciray.Session(scene, dtype="float16")
     with pytest.raises(ValueError, match="channels: unknown channel 'ids'"):
         sciray.Session(scene, channels=["ids"])
+
+
+def test_commits_racing_frames_from_another_thread():
+    """Frames keep the world they started with while another thread commits a new one
+    (arrays copied afresh each commit, and their old copies freed only after the swap)."""
+    vertices, indices = cube()
+    moving = vertices.astype(np.float64)  # copied at every commit
+    scene = sciray.Scene()
+    scene.add_mesh(moving, indices)
+    camera = fixed_camera()
+    states = []
+    for dx in (0.0, 0.5):
+        moving[:] = vertices + [dx, 0, 0]
+        scene.commit()
+        states.append(np.asarray(sciray.render(scene, camera, size=(48, 36))))
+    assert not np.array_equal(states[0], states[1])
+    stop = threading.Event()
+
+    def commit_in_a_loop():
+        k = 0
+        while not stop.is_set():
+            moving[:] = vertices + [0.5 * (k % 2), 0, 0]
+            scene.commit()
+            k += 1
+
+    committer = threading.Thread(target=commit_in_a_loop)
+    committer.start()
+    session = sciray.Session(scene, camera, None, size=(48, 36))
+    unknown = 0
+    try:
+        for _ in range(40):
+            session.reset()
+            session.render_frame()
+            image = session.color()
+            unknown += not any(np.array_equal(image, s) for s in states)
+    finally:
+        stop.set()
+        committer.join()
+    assert unknown == 0
