@@ -45,7 +45,8 @@ struct TwoQuads {
   OSPRenderer renderer = ospNewRenderer("scivis");
 
   TwoQuads() {
-    const float positions[] = {-1, -1, 0, 0, -1, 0, 0, 1, 0, -1, 1, 0, 0, -1, 0, 1, -1, 0, 1, 1, 0, 0, 1, 0};
+    // Static: the array is shared (not copied), and tests commit the mesh again later.
+    static constexpr float positions[] = {-1, -1, 0, 0, -1, 0, 0, 1, 0, -1, 1, 0, 0, -1, 0, 1, -1, 0, 1, 1, 0, 0, 1, 0};
     set_array(mesh, "vertex.position", positions, OSP_VEC3F, 8);
     ospSetBool(mesh, "quadSoup", true);  // no `index`: consecutive vertices make the quads
     ospCommit(mesh);

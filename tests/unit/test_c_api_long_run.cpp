@@ -63,6 +63,10 @@ TEST_CASE("C API: 10,000 commit/render/release cycles keep resident memory flat"
   std::printf("[long run] resident memory after %d warm-up cycles %.1f MB, after %d more %.1f MB (%+.3f %%)\n", warm_up,
               after_warm_up / 1e6, cycles, after / 1e6, 100.0 * growth);
   REQUIRE(after_warm_up > 0);
+#ifdef SCIRAY_SANITIZED
+  WARN("resident memory is not checked under a sanitizer: its allocator quarantines freed memory");
+#else
   CHECK(growth < 0.01);
+#endif
   CHECK(api.messages.errors.empty());
 }
