@@ -76,7 +76,8 @@ public:
       throw Error("mpi: a message announces " + std::to_string(count) + " values but holds " +
                   std::to_string((bytes_.size() - at_) / sizeof(T)));
     std::vector<T> values(count);
-    std::memcpy(values.data(), take(count * sizeof(T)), count * sizeof(T));
+    const std::byte* from = take(count * sizeof(T));
+    if (count) std::memcpy(values.data(), from, count * sizeof(T));  // an empty vector's data() may be null
     return values;
   }
   bool done() const { return at_ == bytes_.size(); }
