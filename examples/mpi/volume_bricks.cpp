@@ -113,9 +113,10 @@ OSPWorld make_world(const Brick& brick, bool distributed, std::optional<float> i
   OSPWorld world = ospNewWorld();
   ospSetObjectAsData(world, "instance", OSP_INSTANCE, instance);
   ospRelease(instance);
+  // Shared, not copied: it must outlive the commit below.
+  const sciray::Box3f& r = brick.region;
+  const float region[6] = {r.lower.x, r.lower.y, r.lower.z, r.upper.x, r.upper.y, r.upper.z};
   if (distributed) {
-    const sciray::Box3f& r = brick.region;
-    const float region[6] = {r.lower.x, r.lower.y, r.lower.z, r.upper.x, r.upper.y, r.upper.z};
     data = ospNewSharedData1D(region, OSP_BOX3F, 1);
     ospSetObject(world, "region", data);
     ospRelease(data);

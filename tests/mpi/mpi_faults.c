@@ -40,6 +40,7 @@ static void use_device(const char *type) {
 static void render_one_frame(int rank, int overlap, int call_mpi) {
   const float center[3] = {0.f, 0.f, 0.f};
   const float region[6] = {-1.f, -1.f, -1.f, 1.f, 1.f, 1.f};
+  float mine[6];
   OSPGeometry sphere = ospNewGeometry("sphere");
   OSPData data = ospNewSharedData1D(center, OSP_VEC3F, 1);
   OSPGeometricModel model;
@@ -62,14 +63,12 @@ static void render_one_frame(int rank, int overlap, int call_mpi) {
   ospCommit(instance);
   world = ospNewWorld();
   ospSetObjectAsData(world, "instance", OSP_INSTANCE, instance);
-  {
-    float mine[6];
-    memcpy(mine, region, sizeof mine);
-    if (!overlap) mine[0] = -1.f + (float)rank, mine[3] = (float)rank;
-    data = ospNewSharedData1D(mine, OSP_BOX3F, 1);
-    ospSetObject(world, "region", data);
-    ospRelease(data);
-  }
+  /* Shared, not copied: it must outlive the commit below. */
+  memcpy(mine, region, sizeof mine);
+  if (!overlap) mine[0] = -1.f + (float)rank, mine[3] = (float)rank;
+  data = ospNewSharedData1D(mine, OSP_BOX3F, 1);
+  ospSetObject(world, "region", data);
+  ospRelease(data);
   ospCommit(world);
   camera = ospNewCamera("perspective");
   ospSetVec3f(camera, "position", 0.f, 0.f, 4.f);
