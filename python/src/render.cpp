@@ -398,7 +398,7 @@ void bind_render(py::module_& m) {
       .def("pick", &Session::pick, py::arg("x"), py::arg("y"),
            "What pixel (x, y) shows (column, row from the top): a dict of position, geometry, primitive and "
            "distance, or None");
-  // The Session constructor takes None for the default renderer.
+  // PNG bytes for sciray.Image (Jupyter's _repr_png_, Image.save).
   m.def("_encode_png", &encode_png, py::arg("image"));
 }
 
