@@ -14,7 +14,7 @@
 
 #include "sciray/shim/engine.hpp"
 #include "sciray/testing/scenes.hpp"
-#include "sciray/testing/tetrahedra.hpp"
+#include "sciray/testing/cell_lattice.hpp"
 
 namespace {
 

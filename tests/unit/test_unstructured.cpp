@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "sciray/testing/cell_lattice.hpp"
 #include "sciray/volume/unstructured.hpp"
 
 using namespace sciray;
@@ -95,27 +96,7 @@ TEST_CASE("unstructured: outside every cell a sample is the background; cell val
 TEST_CASE("unstructured: many cells are found through the hierarchy", "[volume][unstructured]") {
   // A 12^3 lattice of unit cubes, each as 6 tetrahedra: 10,368 cells of a linear field.
   constexpr int n = 12;
-  UnstructuredData d;
-  const auto at = [&](int x, int y, int z) { return static_cast<std::uint64_t>((z * (n + 1) + y) * (n + 1) + x); };
-  for (int z = 0; z <= n; ++z)
-    for (int y = 0; y <= n; ++y)
-      for (int x = 0; x <= n; ++x) {
-        d.positions.push_back({static_cast<float>(x), static_cast<float>(y), static_cast<float>(z)});
-        d.vertex_values.push_back(linear(d.positions.back() * (1.f / n)));
-      }
-  const int tets[6][4] = {{0, 1, 2, 6}, {0, 2, 3, 6}, {0, 3, 7, 6}, {0, 7, 4, 6}, {0, 4, 5, 6}, {0, 5, 1, 6}};
-  for (int z = 0; z < n; ++z)
-    for (int y = 0; y < n; ++y)
-      for (int x = 0; x < n; ++x) {
-        const std::uint64_t corner[8] = {at(x, y, z),         at(x + 1, y, z),         at(x + 1, y + 1, z),
-                                         at(x, y + 1, z),     at(x, y, z + 1),         at(x + 1, y, z + 1),
-                                         at(x + 1, y + 1, z + 1), at(x, y + 1, z + 1)};
-        for (const auto& t : tets) {
-          d.cell_index.push_back(d.index.size());
-          d.cell_type.push_back(static_cast<std::uint8_t>(CellType::tetrahedron));
-          for (int v : t) d.index.push_back(corner[v]);
-        }
-      }
+  UnstructuredData d = testing::tetrahedral_lattice(n, [](const Vec3f& p) { return linear(p * (1.f / n)); });
   const Unstructured volume(std::move(d));
   CHECK(volume.cell_count() == 6 * n * n * n);
   CHECK(volume.cell_size().x == 1.f);

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "sciray/shim/engine.hpp"
+#include "sciray/testing/cell_lattice.hpp"
 #include "sciray/testing/scenes.hpp"
 #include "support/isas.hpp"
 #include "support/trace.hpp"
@@ -24,40 +25,18 @@ namespace {
 /// pyramids meet the next cube's on a quad one side and two triangles the other, which
 /// only coincide while the quad is plane.
 std::shared_ptr<const Unstructured> linear_mesh(CellType type, int n, float jitter) {
-  UnstructuredData d;
-  const auto id = [&](int x, int y, int z) { return static_cast<std::uint64_t>((z * (n + 1) + y) * (n + 1) + x); };
-  for (int z = 0; z <= n; ++z)
-    for (int y = 0; y <= n; ++y)
-      for (int x = 0; x <= n; ++x) {
-        Vec3f p{static_cast<float>(x) / n, static_cast<float>(y) / n, static_cast<float>(z) / n};
-        if (type != CellType::pyramid && x > 0 && x < n && y > 0 && y < n && z > 0 && z < n) {
-          const std::size_t h = 3 * id(x, y, z);
-          p = p + Vec3f{testing::hash_uniform(h) - 0.5f, testing::hash_uniform(h + 1) - 0.5f,
-                        testing::hash_uniform(h + 2) - 0.5f} *
-                      (2.f * jitter / static_cast<float>(n));
-        }
-        d.positions.push_back(p);
-        d.vertex_values.push_back(p.x + 2 * p.y + 3 * p.z);
-      }
-  std::vector<std::vector<int>> cuts;
-  switch (type) {
-    case CellType::hexahedron: cuts = {{0, 1, 2, 3, 4, 5, 6, 7}}; break;
-    case CellType::wedge: cuts = {{0, 1, 3, 4, 5, 7}, {1, 2, 3, 5, 6, 7}}; break;
-    case CellType::pyramid: cuts = {{0, 1, 5, 4, 6}, {0, 4, 7, 3, 6}, {0, 3, 2, 1, 6}}; break;
-    case CellType::tetrahedron: cuts = {{0, 1, 2, 6}, {0, 2, 3, 6}, {0, 3, 7, 6}, {0, 7, 4, 6}, {0, 4, 5, 6}, {0, 5, 1, 6}}; break;
-  }
-  for (int z = 0; z < n; ++z)
-    for (int y = 0; y < n; ++y)
-      for (int x = 0; x < n; ++x) {
-        const std::uint64_t corner[8] = {id(x, y, z),     id(x + 1, y, z),     id(x + 1, y + 1, z),     id(x, y + 1, z),
-                                         id(x, y, z + 1), id(x + 1, y, z + 1), id(x + 1, y + 1, z + 1), id(x, y + 1, z + 1)};
-        for (const auto& cut : cuts) {
-          d.cell_index.push_back(d.index.size());
-          d.cell_type.push_back(static_cast<std::uint8_t>(type));
-          for (int k : cut) d.index.push_back(corner[k]);
-        }
-      }
-  return std::make_shared<const Unstructured>(std::move(d));
+  const auto jittered = [&](int x, int y, int z) {
+    Vec3f p{static_cast<float>(x) / n, static_cast<float>(y) / n, static_cast<float>(z) / n};
+    if (type != CellType::pyramid && x > 0 && x < n && y > 0 && y < n && z > 0 && z < n) {
+      const std::size_t h = 3 * static_cast<std::size_t>((z * (n + 1) + y) * (n + 1) + x);
+      p = p + Vec3f{testing::hash_uniform(h) - 0.5f, testing::hash_uniform(h + 1) - 0.5f,
+                    testing::hash_uniform(h + 2) - 0.5f} *
+                  (2.f * jitter / static_cast<float>(n));
+    }
+    return p;
+  };
+  return std::make_shared<const Unstructured>(
+      testing::cell_lattice(type, n, jittered, [](const Vec3f& p) { return p.x + 2 * p.y + 3 * p.z; }));
 }
 
 const CellType all_types[] = {CellType::tetrahedron, CellType::hexahedron, CellType::wedge, CellType::pyramid};
