@@ -11,7 +11,9 @@
 #include <vector>
 
 #include "sciray/io/obj.hpp"
+#include "support/temp_dir.hpp"
 
+using sciray_test::TempDir;
 namespace {
 
 using Catch::Contains;
@@ -22,35 +24,12 @@ using sciray::Vec3f;
 using sciray::io::ObjScene;
 using sciray::io::read_obj;
 
-/// A fresh directory under the system temporary directory, removed with its contents.
-class TempDir {
-public:
-  TempDir()
-      : path_(std::filesystem::temp_directory_path() /
-              ("sciray_test_obj_" + std::to_string(std::chrono::steady_clock::now().time_since_epoch().count()))) {
-    std::filesystem::create_directories(path_);
-  }
-  ~TempDir() { std::filesystem::remove_all(path_); }
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-
-  std::filesystem::path write(const std::string& name, const std::string& contents) const {
-    const std::filesystem::path file = path_ / name;
-    std::filesystem::create_directories(file.parent_path());
-    std::ofstream(file, std::ios::binary).write(contents.data(), static_cast<std::streamsize>(contents.size()));
-    return file;
-  }
-  /// A width x height PNG of `channels` 8-bit channels, top row first.
-  void png(const std::string& name, int width, int height, int channels,
-           const std::vector<std::uint8_t>& pixels) const {
-    std::filesystem::create_directories((path_ / name).parent_path());
-    sciray::io::write_png(path_ / name, width, height, channels, pixels.data());
-  }
-  const std::filesystem::path& path() const { return path_; }
-
-private:
-  std::filesystem::path path_;
-};
+/// A width x height PNG of `channels` 8-bit channels, top row first, at `name` in `dir`.
+void write_png(const TempDir& dir, const std::string& name, int width, int height, int channels,
+               const std::vector<std::uint8_t>& pixels) {
+  std::filesystem::create_directories((dir.path() / name).parent_path());
+  sciray::io::write_png(dir.path() / name, width, height, channels, pixels.data());
+}
 
 constexpr const char* cube_positions = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n";
 constexpr const char* cube_normals = "vn 0 0 -1\nvn 0 0 1\nvn -1 0 0\nvn 1 0 0\nvn 0 -1 0\nvn 0 1 0\n";
@@ -93,9 +72,9 @@ double total_area(const MeshData& mesh) {
 }  // namespace
 
 TEST_CASE("obj: a cube in groups with two materials, normals, texcoords and a texture", "[io][obj]") {
-  TempDir dir;
+  TempDir dir("sciray_test_obj_");
   // 2x1 RGBA: left opaque red, right half-transparent blue (top row = the only row).
-  dir.png("textures/checker.png", 2, 1, 4, {255, 0, 0, 255, 0, 0, 255, 128});
+  write_png(dir, "textures/checker.png", 2, 1, 4, {255, 0, 0, 255, 0, 0, 255, 128});
   dir.write("cube.mtl",
             "# two materials\n"
             "newmtl red\nKd 0.8 0.1 0.1\nKs 0.2 0.3 0.4\nNs 50\nd 0.75\nillum 2\n"
@@ -146,10 +125,10 @@ TEST_CASE("obj: a cube in groups with two materials, normals, texcoords and a te
 }
 
 TEST_CASE("obj: PBR materials become principled, emission and normal maps included", "[io][obj]") {
-  TempDir dir;
-  dir.png("normal.png", 1, 1, 3, {128, 128, 255});
-  dir.png("height.png", 1, 1, 1, {77});
-  dir.png("rough.png", 1, 1, 1, {51});
+  TempDir dir("sciray_test_obj_");
+  write_png(dir, "normal.png", 1, 1, 3, {128, 128, 255});
+  write_png(dir, "height.png", 1, 1, 1, {77});
+  write_png(dir, "rough.png", 1, 1, 1, {51});
   dir.write("pbr.mtl",
             "newmtl metal\nKd 0.9 0.8 0.7\nPr 0.3\nPm 1\nPs 0.2\nPc 0.4\nPcr 0.1\naniso 0.5\nanisor 0.25\nNi 1.33\n"
             "d 0.5\nmap_Pr rough.png\nnorm -bm 0.5 normal.png\n"
@@ -205,7 +184,7 @@ TEST_CASE("obj: PBR materials become principled, emission and normal maps includ
 }
 
 TEST_CASE("obj: one vertex per distinct position, texcoord and normal", "[io][obj]") {
-  TempDir dir;
+  TempDir dir("sciray_test_obj_");
   std::string faces;
   for (int k = 0; k < 6; ++k) faces += cube_face(k);
   SECTION("per-face normals: 24 vertices") {
@@ -250,7 +229,7 @@ TEST_CASE("obj: one vertex per distinct position, texcoord and normal", "[io][ob
 }
 
 TEST_CASE("obj: quads and pentagons are triangulated by tinyobjloader", "[io][obj]") {
-  TempDir dir;
+  TempDir dir("sciray_test_obj_");
   SECTION("a quad splits along its shorter diagonal") {
     // Corner 2 is pulled in, so the diagonal 1-3 is longer than 2-4... by construction 2-4 is shorter.
     const ObjScene scene = read_obj(dir.write("quad.obj", "v 0 0 0\nv 1.5 1.5 0\nv 4 0 0\nv 1.5 -1 0\nf 1 2 3 4\n"));
@@ -277,10 +256,10 @@ TEST_CASE("obj: quads and pentagons are triangulated by tinyobjloader", "[io][ob
 }
 
 TEST_CASE("obj: JPEG textures, Windows paths and one texture for many materials", "[io][obj]") {
-  TempDir dir;
+  TempDir dir("sciray_test_obj_");
   const std::uint8_t grey[3] = {200, 200, 200};
   REQUIRE(stbi_write_jpg((dir.path() / "grey.jpg").c_str(), 1, 1, 3, grey, 95));
-  dir.png("maps/kd.png", 1, 1, 3, {255, 255, 255});
+  write_png(dir, "maps/kd.png", 1, 1, 3, {255, 255, 255});
   dir.write("lib/m.mtl",
             "newmtl a\nKd 1 1 1\nmap_Kd ..\\maps\\kd.png\nmap_Ks ../grey.jpg\n"
             "newmtl b\nKd 1 1 1\nmap_Kd ../maps/kd.png\n");
@@ -296,7 +275,7 @@ TEST_CASE("obj: JPEG textures, Windows paths and one texture for many materials"
 }
 
 TEST_CASE("obj: warnings for what is read but not rendered", "[io][obj]") {
-  TempDir dir;
+  TempDir dir("sciray_test_obj_");
   dir.write("both.mtl", "newmtl m\nd 0.5\nTr 0.9\n");
   const ObjScene scene = read_obj(
       dir.write("warn.obj", std::string("mtllib both.mtl\n") + cube_positions + "usemtl m\nl 1 2\np 3\nf 1 2 3\n"));
@@ -307,7 +286,7 @@ TEST_CASE("obj: warnings for what is read but not rendered", "[io][obj]") {
 }
 
 TEST_CASE("obj: every error names the file and what is wrong", "[io][obj]") {
-  TempDir dir;
+  TempDir dir("sciray_test_obj_");
   const std::string v = cube_positions;  // lines 1-8
   const auto error_of = [&](const std::string& obj) {
     const auto file = dir.write("bad.obj", obj);
@@ -368,7 +347,7 @@ TEST_CASE("obj: every error names the file and what is wrong", "[io][obj]") {
   dir.write("m.mtl", "newmtl rough\nPr 2\n");
   CHECK_THAT(error_of("mtllib m.mtl\n" + v + "usemtl rough\nf 1 2 3\n"),
              Contains("material 'rough': principled material: parameter 'roughness' must be in [0, 1]"));
-  dir.png("t.png", 1, 1, 3, {1, 2, 3});
+  write_png(dir, "t.png", 1, 1, 3, {1, 2, 3});
   dir.write("m.mtl", "newmtl tex\nmap_Kd -s 0 1 1 t.png\n");
   CHECK_THAT(error_of("mtllib m.mtl\n" + v + "usemtl tex\nf 1 2 3\n"), Contains("-s or -o is zero or not finite"));
 }

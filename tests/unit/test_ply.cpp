@@ -17,7 +17,9 @@
 #include <vector>
 
 #include "sciray/io/ply.hpp"
+#include "support/temp_dir.hpp"
 
+using sciray_test::TempDir;
 namespace {
 
 using sciray::MeshData;
@@ -179,34 +181,11 @@ std::vector<float> face_colors_of(const MeshData& mesh) {
   return {mesh.face_colors.begin(), mesh.face_colors.end()};
 }
 
-/// A fresh directory under the system temporary directory, removed with its contents.
-class TempDir {
-public:
-  TempDir()
-      : path_(std::filesystem::temp_directory_path() /
-              ("sciray_test_ply_" +
-               std::to_string(std::chrono::steady_clock::now().time_since_epoch().count()))) {
-    std::filesystem::create_directories(path_);
-  }
-  ~TempDir() { std::filesystem::remove_all(path_); }
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-
-  std::filesystem::path write(const std::string& name, const std::string& contents) const {
-    const std::filesystem::path file = path_ / name;
-    std::ofstream(file, std::ios::binary)
-        .write(contents.data(), static_cast<std::streamsize>(contents.size()));
-    return file;
-  }
-
-private:
-  std::filesystem::path path_;
-};
 
 }  // namespace
 
 TEST_CASE("ply: the same cube reads identically from ascii and both binary byte orders", "[io][ply]") {
-  TempDir dir;
+  TempDir dir("sciray_test_ply_");
   const MeshData ascii = read_ply(dir.write("cube_ascii.ply", make_ply(Encoding::ascii, cube_elements())));
   const MeshData little =
       read_ply(dir.write("cube_le.ply", make_ply(Encoding::binary_little_endian, cube_elements())));
@@ -503,7 +482,7 @@ TEST_CASE("ply: a generated 2M-triangle binary file loads", "[io][ply]") {
         for (const std::uint32_t index : triangle) append_binary<std::uint32_t>(file, index, false);
       }
     }
-  TempDir dir;
+  TempDir dir("sciray_test_ply_");
   const MeshData mesh = read_ply(dir.write("grid.ply", file));
   REQUIRE(mesh.vertex_count() == side * side);
   REQUIRE(mesh.face_count() == 2 * cells * cells);

@@ -17,7 +17,9 @@
 #include "sciray/io/ply.hpp"
 #include "sciray/io/points.hpp"
 #include "sciray/testing/scenes.hpp"
+#include "support/temp_dir.hpp"
 
+using sciray_test::TempDir;
 namespace {
 
 using Catch::Contains;
@@ -29,27 +31,6 @@ using sciray::io::read_points;
 using sciray::io::to_spheres;
 namespace fs = std::filesystem;
 
-/// A fresh directory under the system temporary directory, removed with its contents.
-class TempDir {
-public:
-  TempDir()
-      : path_(fs::temp_directory_path() /
-              ("sciray_test_points_" + std::to_string(std::chrono::steady_clock::now().time_since_epoch().count()))) {
-    fs::create_directories(path_);
-  }
-  ~TempDir() { fs::remove_all(path_); }
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-
-  std::string write(const std::string& name, const std::string& contents) const {
-    const fs::path file = path_ / name;
-    std::ofstream(file, std::ios::binary).write(contents.data(), static_cast<std::streamsize>(contents.size()));
-    return file.string();
-  }
-
-private:
-  fs::path path_;
-};
 
 template <class T>
 void append_binary(std::string& out, double value, bool big_endian) {
@@ -133,7 +114,7 @@ Vec3f gray(float s) {
 }  // namespace
 
 TEST_CASE("points: PLY vertices read the same from ascii and both binary byte orders", "[io][points]") {
-  const TempDir dir;
+  const TempDir dir("sciray_test_points_");
   const std::vector<std::string> properties = {"float32 x",       "float32 y",      "float64 z",
                                                "list neighbours", "float64 radius", "uint16 intensity"};
   const std::vector<std::vector<double>> rows = {
@@ -159,7 +140,7 @@ TEST_CASE("points: PLY vertices read the same from ascii and both binary byte or
 }
 
 TEST_CASE("points: every PLY scalar type, as coordinates and as properties", "[io][points]") {
-  const TempDir dir;
+  const TempDir dir("sciray_test_points_");
   const std::vector<std::string> types = {"int8", "uint8", "int16", "uint16", "int32", "uint32", "float32", "float64"};
   const std::vector<std::vector<double>> extremes = {
       {-128, 127},       {0, 255},          {-32768, 32767}, {0, 65535}, {-2147483648.0, 2147483647.0},
@@ -181,7 +162,7 @@ TEST_CASE("points: every PLY scalar type, as coordinates and as properties", "[i
 }
 
 TEST_CASE("points: .xyz, .xyzr and .f32xyzr files", "[io][points]") {
-  const TempDir dir;
+  const TempDir dir("sciray_test_points_");
   const PointCloud xyz =
       read_points(dir.write("a.xyz", "# x y z\n\n1 2 3\r\n  +4.5\t-5e-1 6   # a comment\n\n  # another\n7 8 9"));
   CHECK(as_vector(xyz.positions) == std::vector<float>{1, 2, 3, 4.5f, -0.5f, 6, 7, 8, 9});
@@ -218,7 +199,7 @@ TEST_CASE("points: a real mesh's vertices, and is_point_cloud_file tells meshes 
 }
 
 TEST_CASE("points: spheres coloured by a property through the colour map", "[io][points]") {
-  const TempDir dir;
+  const TempDir dir("sciray_test_points_");
   const std::string file = dir.write(
       "c.ply", make_ply("binary_little_endian", {"float32 x", "float32 y", "float32 z", "float32 temperature"},
                         {{0, 0, 0, 10}, {1, 0, 0, 30}, {0, 1, 0, 20}, {0, 0, 1, NAN}}));
@@ -250,7 +231,7 @@ TEST_CASE("points: spheres coloured by a property through the colour map", "[io]
 }
 
 TEST_CASE("points: spheres coloured by the file's own colours", "[io][points]") {
-  const TempDir dir;
+  const TempDir dir("sciray_test_points_");
   const std::vector<std::string> properties = {"float32 x",   "float32 y",  "float32 z",  "uint8 red",
                                                "uint8 green", "uint8 blue", "uint8 alpha"};
   const std::string file = dir.write(
@@ -274,7 +255,7 @@ TEST_CASE("points: spheres coloured by the file's own colours", "[io][points]") 
 }
 
 TEST_CASE("points: the spheres' radius: the file's, the option, else from the spacing", "[io][points]") {
-  const TempDir dir;
+  const TempDir dir("sciray_test_points_");
   std::string cube, plane;
   for (int i = 0; i < 10; ++i)
     for (int j = 0; j < 10; ++j) {
@@ -306,7 +287,7 @@ TEST_CASE("points: the spheres' radius: the file's, the option, else from the sp
 }
 
 TEST_CASE("points: radii scaled by a property, (value / median)^exponent", "[io][points]") {
-  const TempDir dir;
+  const TempDir dir("sciray_test_points_");
   const std::string file = dir.write(
       "lum.ply", make_ply("ascii", {"float32 x", "float32 y", "float32 z", "float32 lum"},
                           {{0, 0, 0, 1}, {1, 0, 0, 16}, {2, 0, 0, 81}}));
@@ -330,7 +311,7 @@ TEST_CASE("points: radii scaled by a property, (value / median)^exponent", "[io]
 }
 
 TEST_CASE("points: malformed files give errors that say what is wrong", "[io][points]") {
-  const TempDir dir;
+  const TempDir dir("sciray_test_points_");
   const auto read = [&](const std::string& name, const std::string& contents) {
     return read_points(dir.write(name, contents));
   };
@@ -402,7 +383,7 @@ TEST_CASE("points: malformed files give errors that say what is wrong", "[io][po
 }
 
 TEST_CASE("points: making spheres gives errors that name the property", "[io][points]") {
-  const TempDir dir;
+  const TempDir dir("sciray_test_points_");
   const std::string file = dir.write(
       "s.ply", make_ply("ascii", {"float32 x", "float32 y", "float32 z", "int8 red", "uint8 green", "float32 lum"},
                         {{0, 0, 0, 1, 2, 3}}));

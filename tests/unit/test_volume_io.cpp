@@ -20,7 +20,9 @@
 #include <vector>
 
 #include "sciray/io/volume.hpp"
+#include "support/temp_dir.hpp"
 
+using sciray_test::TempDir;
 namespace {
 
 namespace fs = std::filesystem;
@@ -44,30 +46,6 @@ std::string file_contents(const fs::path& path) {
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
-/// A fresh directory under the system temporary directory, removed with its contents.
-class TempDir {
-public:
-  TempDir()
-      : path_(fs::temp_directory_path() /
-              ("sciray_test_volume_io_" + std::to_string(std::chrono::steady_clock::now().time_since_epoch().count()) +
-               "_" + std::to_string(std::random_device()()))) {
-    fs::create_directories(path_);
-  }
-  ~TempDir() { fs::remove_all(path_); }
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-
-  const fs::path& path() const { return path_; }
-  fs::path write(const std::string& name, const std::string& contents) const {
-    const fs::path file = path_ / name;
-    fs::create_directories(file.parent_path());
-    std::ofstream(file, std::ios::binary).write(contents.data(), static_cast<std::streamsize>(contents.size()));
-    return file;
-  }
-
-private:
-  fs::path path_;
-};
 
 /// Voxel i of a loaded volume as a double.
 double voxel(const VolumeFile& volume, std::size_t i) {
@@ -217,7 +195,7 @@ TEST_CASE("volume_io: every shipped volume loads as its sidecar describes", "[vo
 }
 
 TEST_CASE("volume_io: raw dims and type from the file name when there is no sidecar", "[volume_io]") {
-  TempDir dir;
+  TempDir dir("sciray_test_volume_io_");
   const fs::path copy = dir.write("scan_64x64x93_uint16.raw", file_contents(volume_path("headsq_64x64x93_uint16.raw")));
   const VolumeFile volume = read_volume(copy);
   CHECK(volume.kind == VoxelKind::uint16);
@@ -265,7 +243,7 @@ TEST_CASE("volume_io: options override the sidecar and the file name", "[volume_
   same.kind = VoxelKind::uint16;
   CHECK(read_volume(volume_path("headsq_64x64x93_uint16.raw"), same).range.has_value());
 
-  TempDir dir;
+  TempDir dir("sciray_test_volume_io_");
   // A name without the convention and no sidecar needs both options.
   const fs::path plain = dir.write("plain.raw", file_contents(volume_path("headsq_64x64x93_uint16.raw")));
   REQUIRE_THROWS_WITH(read_volume(plain), Contains("plain.raw: cannot tell the dims and voxel type") &&
@@ -308,7 +286,7 @@ TEST_CASE("volume_io: options override the sidecar and the file name", "[volume_
 }
 
 TEST_CASE("volume_io: NRRD raw in both byte orders and gzip reads the raw file's voxels", "[volume_io]") {
-  TempDir dir;
+  TempDir dir("sciray_test_volume_io_");
   const VolumeFile& reference = headsq();
   const std::string spacings = "spacings: 3.2 3.2 1.5\n";
   for (const bool big : {false, true}) {
@@ -365,7 +343,7 @@ TEST_CASE("volume_io: NRRD raw in both byte orders and gzip reads the raw file's
 }
 
 TEST_CASE("volume_io: gzip NRRD data may be several concatenated members", "[volume_io]") {
-  TempDir dir;
+  TempDir dir("sciray_test_volume_io_");
   const VolumeFile& reference = headsq();
   const std::string data = stored(reference, false);
   const std::string packed = gzip(data.substr(0, 1000)) + gzip(data.substr(1000));
@@ -375,7 +353,7 @@ TEST_CASE("volume_io: gzip NRRD data may be several concatenated members", "[vol
 }
 
 TEST_CASE("volume_io: detached NRRD headers find their data relative to the header", "[volume_io]") {
-  TempDir dir;
+  TempDir dir("sciray_test_volume_io_");
   const VolumeFile& reference = headsq();
   dir.write("data/headsq.raw", stored(reference, true));
   dir.write("data/headsq.raw.gz", gzip(stored(reference, false)));
@@ -396,7 +374,7 @@ TEST_CASE("volume_io: detached NRRD headers find their data relative to the head
 }
 
 TEST_CASE("volume_io: NRRD space directions, space origin and centers place the grid", "[volume_io]") {
-  TempDir dir;
+  TempDir dir("sciray_test_volume_io_");
   const VolumeFile& flow = carotid();
   const std::string data = stored(flow, false);
   const std::string space =
@@ -449,7 +427,7 @@ TEST_CASE("volume_io: NRRD space directions, space origin and centers place the 
 }
 
 TEST_CASE("volume_io: NRRD line skip and byte skip", "[volume_io]") {
-  TempDir dir;
+  TempDir dir("sciray_test_volume_io_");
   const VolumeFile& reference = headsq();
   const std::string data = stored(reference, false);
   dir.write("skipped.raw", "first line\nsecond line\n12345" + data);
@@ -475,7 +453,7 @@ TEST_CASE("volume_io: NRRD line skip and byte skip", "[volume_io]") {
 }
 
 TEST_CASE("volume_io: raw file errors", "[volume_io]") {
-  TempDir dir;
+  TempDir dir("sciray_test_volume_io_");
   const std::string mr = file_contents(volume_path("headmr_48x62x42_uint8.raw"));  // 124992 bytes
   REQUIRE_THROWS_WITH(read_volume(dir.path() / "missing_4x4x4_uint8.raw"),
                       Contains("missing_4x4x4_uint8.raw: cannot open the file"));
@@ -549,7 +527,7 @@ TEST_CASE("volume_io: raw file errors", "[volume_io]") {
 }
 
 TEST_CASE("volume_io: NRRD errors", "[volume_io]") {
-  TempDir dir;
+  TempDir dir("sciray_test_volume_io_");
   const VolumeFile& reference = headsq();
   const VolumeDims d = reference.dims;
   const std::string data = stored(reference, false);
@@ -691,7 +669,7 @@ TEST_CASE("volume_io: NRRD errors", "[volume_io]") {
 }
 
 TEST_CASE("volume_io: corrupt and wrong-length gzip streams", "[volume_io]") {
-  TempDir dir;
+  TempDir dir("sciray_test_volume_io_");
   const VolumeFile& reference = headsq();
   const VolumeDims d = reference.dims;
   const std::string packed = gzip(stored(reference, false));
