@@ -532,16 +532,7 @@ inline MeshData parse_ply(std::span<const std::byte> bytes, std::string_view nam
 /// Reads a whole PLY file (ascii or binary) into memory and parses it.
 inline MeshData read_ply(const std::filesystem::path& path, const PlyOptions& options = {}) {
   const std::string name = path.string();
-  std::ifstream file(path, std::ios::binary | std::ios::ate);
-  if (!file) throw Error(name + ": cannot open the file");
-  const std::streamoff size = file.tellg();
-  if (size < 0) throw Error(name + ": cannot read the file");
-  // Uninitialised: zeroing hundreds of megabytes only to read over them costs time.
-  const auto bytes = std::make_unique_for_overwrite<std::byte[]>(static_cast<std::size_t>(size));
-  ply_detail::advise_huge_pages(bytes.get(), static_cast<std::size_t>(size));
-  file.seekg(0);
-  if (!file.read(reinterpret_cast<char*>(bytes.get()), size)) throw Error(name + ": cannot read the file");
-  return parse_ply({bytes.get(), static_cast<std::size_t>(size)}, name, options);
+  return parse_ply(ply_detail::read_whole_file(path, name).span(), name, options);
 }
 
 }  // namespace sciray::io

@@ -11,7 +11,10 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
+#include <filesystem>
+#include <fstream>
 #include <limits>
+#include <memory>
 #include <optional>
 #include <span>
 #include <string>
@@ -43,6 +46,28 @@ template <class T>
 void reserve_huge(PaddedVector<T>& vector, std::size_t count) {
   vector.reserve(count);
   advise_huge_pages(vector.data(), vector.capacity() * sizeof(T));
+}
+
+/// A file's bytes, read whole.
+struct FileBytes {
+  std::unique_ptr<std::byte[]> data;
+  std::size_t size = 0;
+  std::span<const std::byte> span() const { return {data.get(), size}; }
+};
+
+/// Reads `path` whole into a fresh (huge-page) buffer; errors name the file as `name`.
+inline FileBytes read_whole_file(const std::filesystem::path& path, const std::string& name) {
+  std::ifstream file(path, std::ios::binary | std::ios::ate);
+  if (!file) throw Error(name + ": cannot open the file");
+  const std::streamoff size = file.tellg();
+  if (size < 0) throw Error(name + ": cannot read the file");
+  // Uninitialised: zeroing hundreds of megabytes only to read over them costs time.
+  FileBytes bytes{std::make_unique_for_overwrite<std::byte[]>(static_cast<std::size_t>(size)),
+                  static_cast<std::size_t>(size)};
+  advise_huge_pages(bytes.data.get(), bytes.size);
+  file.seekg(0);
+  if (!file.read(reinterpret_cast<char*>(bytes.data.get()), size)) throw Error(name + ": cannot read the file");
+  return bytes;
 }
 
 enum class ScalarType : std::uint8_t { int8, uint8, int16, uint16, int32, uint32, float32, float64 };

@@ -422,16 +422,7 @@ inline PointCloud parse_points(std::span<const std::byte> bytes, std::string_vie
 
 /// Reads a whole point file (.ply, .xyz, .xyzr, .f32xyzr) into memory and parses it.
 inline PointCloud read_points(const std::string& path, const PointOptions& options = {}) {
-  std::ifstream file(path, std::ios::binary | std::ios::ate);
-  if (!file) throw Error(path + ": cannot open the file");
-  const std::streamoff size = file.tellg();
-  if (size < 0) throw Error(path + ": cannot read the file");
-  // Uninitialised: zeroing hundreds of megabytes only to read over them costs time.
-  const auto bytes = std::make_unique_for_overwrite<std::byte[]>(static_cast<std::size_t>(size));
-  ply_detail::advise_huge_pages(bytes.get(), static_cast<std::size_t>(size));
-  file.seekg(0);
-  if (!file.read(reinterpret_cast<char*>(bytes.get()), size)) throw Error(path + ": cannot read the file");
-  return parse_points({bytes.get(), static_cast<std::size_t>(size)}, path, options);
+  return parse_points(ply_detail::read_whole_file(path, path).span(), path, options);
 }
 
 /// Whether `path` is a point cloud: a .xyz, .xyzr or .f32xyzr file, or a PLY file whose
