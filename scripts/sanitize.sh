@@ -20,7 +20,11 @@ scripts/dev.sh packages
 # the sanitizers, and findings still come with file and line.
 cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=None -DCMAKE_CXX_FLAGS="-O1 -g1" -DSCIRAY_SANITIZE=$sanitize -DSCIRAY_BUILD_BENCH=OFF \
       -DSCIRAY_BUILD_PYTHON=OFF -DPython3_EXECUTABLE=/usr/bin/python3
-cmake --build "$build_dir" -j "$jobs"
+if [ "$kind" = thread ]; then
+  cmake --build "$build_dir" -j "$jobs" --target sciray_tests  # the only program it runs
+else
+  cmake --build "$build_dir" -j "$jobs"
+fi
 export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=1}
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
 export TSAN_OPTIONS=${TSAN_OPTIONS:-halt_on_error=1:second_deadlock_stack=1:suppressions=$PWD/tests/tsan.supp}
