@@ -145,6 +145,35 @@ void report_unused(Object& o, const std::vector<std::string>& unused) {
   for (const auto& message : o.debug_messages()) device().status(OSP_LOG_DEBUG, o.name() + ": " + message);
 }
 
+struct FrameInputs {
+  Ref<FrameBufferObject> fb;
+  Ref<Renderer> renderer;
+  Ref<CameraObject> camera;
+  Ref<World> world_object;
+  std::shared_ptr<const BuiltWorld> world;
+};
+
+/// The frame's objects, checked; the world built for rendering here unless `build` is
+/// false (an offloading device's workers build it).
+FrameInputs frame_inputs(OSPFrameBuffer fb, OSPRenderer renderer, OSPCamera camera, OSPWorld world, bool build = true) {
+  FrameInputs in;
+  in.fb = &live_as<FrameBufferObject>(fb, OSP_FRAMEBUFFER, "frame buffer");
+  in.renderer = &live_as<Renderer>(renderer, OSP_RENDERER, "renderer");
+  in.camera = &live_as<CameraObject>(camera, OSP_CAMERA, "camera");
+  auto& w = live_as<World>(world, OSP_WORLD, "world");
+  if (!in.renderer->committed()) throw Error(in.renderer->name() + " has not been committed");
+  if (!in.camera->committed()) throw Error(in.camera->name() + " has not been committed");
+  if (!w.committed()) throw Error("world has not been committed");
+  in.world_object = &w;
+  if (!build) return in;
+  Device& dev = device();
+  BuildLog log;
+  log.want_memory = dev.logs(OSP_LOG_DEBUG);  // memory_bytes walks every instance
+  in.world = w.built(dev.kernels(), log);
+  for (const auto& message : log.warnings) dev.warn(message);
+  for (const auto& message : log.debug) dev.status(OSP_LOG_DEBUG, message);
+  return in;
+}
 }  // namespace
 
 extern "C" {
@@ -580,38 +609,6 @@ OSPRenderer ospNewRenderer(const char* type) {
     return created<OSPRenderer>(new Renderer(t), t);
   }, OSPRenderer{});
 }
-
-namespace {
-struct FrameInputs {
-  Ref<FrameBufferObject> fb;
-  Ref<Renderer> renderer;
-  Ref<CameraObject> camera;
-  Ref<World> world_object;
-  std::shared_ptr<const BuiltWorld> world;
-};
-
-/// The frame's objects, checked; the world built for rendering here unless `build` is
-/// false (an offloading device's workers build it).
-FrameInputs frame_inputs(OSPFrameBuffer fb, OSPRenderer renderer, OSPCamera camera, OSPWorld world, bool build = true) {
-  FrameInputs in;
-  in.fb = &live_as<FrameBufferObject>(fb, OSP_FRAMEBUFFER, "frame buffer");
-  in.renderer = &live_as<Renderer>(renderer, OSP_RENDERER, "renderer");
-  in.camera = &live_as<CameraObject>(camera, OSP_CAMERA, "camera");
-  auto& w = live_as<World>(world, OSP_WORLD, "world");
-  if (!in.renderer->committed()) throw Error(in.renderer->name() + " has not been committed");
-  if (!in.camera->committed()) throw Error(in.camera->name() + " has not been committed");
-  if (!w.committed()) throw Error("world has not been committed");
-  in.world_object = &w;
-  if (!build) return in;
-  Device& dev = device();
-  BuildLog log;
-  log.want_memory = dev.logs(OSP_LOG_DEBUG);  // memory_bytes walks every instance
-  in.world = w.built(dev.kernels(), log);
-  for (const auto& message : log.warnings) dev.warn(message);
-  for (const auto& message : log.debug) dev.status(OSP_LOG_DEBUG, message);
-  return in;
-}
-}  // namespace
 
 OSPFuture ospRenderFrame(OSPFrameBuffer fb, OSPRenderer renderer, OSPCamera camera, OSPWorld world) {
   return guarded("ospRenderFrame", [&] {
