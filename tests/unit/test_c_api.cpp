@@ -268,6 +268,70 @@ TEST_CASE("data arrays: shared with strides, owned, copied, deleted when the las
   CHECK(deleted == 1);
 }
 
+// Found by the C API fuzz target (fuzz/fuzz_c_api.cpp): objects that refer to each other
+// hold each other's references and were never released. (LeakSanitizer checks the C API
+// tests in CI, so a cycle let through fails there too.)
+TEST_CASE("a parameter or a copy that would make a cycle of references is refused", "[c_api][data][errors]") {
+  ApiFixture api;
+  OSPGroup group = ospNewGroup();
+  OSPInstance instance = ospNewInstance(group);
+  ospSetObject(group, "self", group);
+  api.expect_error("parameter 'self': group refers to this group");
+  ospSetObject(group, "owner", instance);
+  api.expect_error("parameter 'owner': instance refers to this group");
+  OSPData instances = ospNewSharedData1D(&instance, OSP_INSTANCE, 1);
+  ospSetObject(group, "owners", instances);
+  api.expect_error("a cycle of references");
+
+  // Arrays of arrays: `outer` holds `inner`; copying into `inner` an array that holds
+  // `outer` would close the loop.
+  OSPData inner = ospNewData1D(OSP_DATA, 1);
+  OSPData outer = ospNewSharedData1D(&inner, OSP_DATA, 1);
+  OSPData holding_outer = ospNewSharedData1D(&outer, OSP_DATA, 1);
+  ospCopyData1D(holding_outer, inner, 0);
+  api.expect_error("ospCopyData would put into this array");
+
+  // References the other way are fine.
+  ospCommit(group);
+  ospCommit(instance);
+  OSPWorld world = ospNewWorld();
+  ospSetObjectAsData(world, "instance", OSP_INSTANCE, instance);
+  ospCommit(world);
+  INFO((api.messages.errors.empty() ? std::string() : api.messages.errors.front()));
+  CHECK(api.messages.errors.empty());
+  for (OSPObject o : {static_cast<OSPObject>(group), static_cast<OSPObject>(instance), static_cast<OSPObject>(instances),
+                      static_cast<OSPObject>(inner), static_cast<OSPObject>(outer),
+                      static_cast<OSPObject>(holding_outer), static_cast<OSPObject>(world)})
+    ospRelease(o);
+}
+
+TEST_CASE("ospCopyData copies the object handles the source array checked, not its memory's current bytes",
+          "[c_api][data]") {
+  ApiFixture api;
+  OSPGeometry sphere = ospNewGeometry("sphere");
+  const float center[3 + 1] = {0, 0, 0};
+  OSPData centers = ospNewSharedData1D(center, OSP_VEC3F, 1);
+  ospSetObject(sphere, "sphere.position", centers);
+  ospCommit(sphere);
+  OSPGeometricModel handles[1] = {ospNewGeometricModel(sphere)};
+  ospCommit(handles[0]);
+  OSPData shared = ospNewSharedData1D(handles, OSP_GEOMETRIC_MODEL, 1);
+  OSPGeometricModel model = handles[0];
+  handles[0] = reinterpret_cast<OSPGeometricModel>(&handles);  // not a handle: the application reused its memory
+  OSPData copy = ospNewData1D(OSP_GEOMETRIC_MODEL, 1);
+  ospCopyData1D(shared, copy, 0);
+  OSPGroup group = ospNewGroup();
+  ospSetObject(group, "geometry", copy);
+  ospCommit(group);
+  CHECK(api.messages.errors.empty());
+  const OSPBounds bounds = ospGetBounds(group);
+  CHECK(bounds.upper[0] - bounds.lower[0] == Approx(0.02f));  // the sphere's default radius 0.01
+  for (OSPObject o : {static_cast<OSPObject>(sphere), static_cast<OSPObject>(centers), static_cast<OSPObject>(model),
+                      static_cast<OSPObject>(shared),
+                      static_cast<OSPObject>(copy), static_cast<OSPObject>(group)})
+    ospRelease(o);
+}
+
 TEST_CASE("bad input is named through the error callback and never crashes", "[c_api][errors]") {
   ApiFixture api;
   OSPGeometry mesh = ospNewGeometry("mesh");

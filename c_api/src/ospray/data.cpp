@@ -42,6 +42,12 @@ Data::~Data() {
   if (deleter_) deleter_(deleter_user_data_, shared_);
 }
 
+void Data::for_each_reference(const std::function<void(const Object&)>& visit) const {
+  Object::for_each_reference(visit);
+  for (const Ref<Object>& o : objects_)
+    if (o) visit(*o);
+}
+
 void Data::retain_objects() {
   if (!is_object_type(element_type_)) return;
   objects_.reserve(size());
@@ -68,18 +74,23 @@ void Data::copy_from(const Data& source, std::array<std::uint64_t, 3> offset) {
       throw Error("data: ospCopyData of " + std::to_string(source.counts_[d]) + " items at index " +
                   std::to_string(offset[d]) + " overflows dimension " + std::to_string(d + 1) + " of size " +
                   std::to_string(counts_[d]));
+  for (const Ref<Object>& o : source.objects_)
+    if (o && refers_to(*o, *this))
+      throw Error("data: ospCopyData would put into this array " + o->name() +
+                  ", which refers to the array: a cycle of references, never released");
   const std::size_t bytes = size_of(element_type_);
   for (std::uint64_t k = 0; k < source.counts_[2]; ++k)
     for (std::uint64_t j = 0; j < source.counts_[1]; ++j)
       for (std::uint64_t i = 0; i < source.counts_[0]; ++i) {
         std::byte* to = const_cast<std::byte*>(element(offset[0] + i, offset[1] + j, offset[2] + k));
-        std::memcpy(to, source.element(i, j, k), bytes);
-        if (!objects_.empty()) {
-          const std::uint64_t linear =
-              (offset[0] + i) + counts_[0] * ((offset[1] + j) + counts_[1] * (offset[2] + k));
-          Object* handle;
-          std::memcpy(&handle, to, sizeof(handle));
-          objects_[linear] = handle;
+        if (objects_.empty()) {
+          std::memcpy(to, source.element(i, j, k), bytes);
+        } else {
+          // The source's objects as it checked and retained them: a shared source's memory
+          // may hold other bytes by now.
+          Object* handle = source.object(i + source.counts_[0] * (j + source.counts_[1] * k));
+          std::memcpy(to, &handle, sizeof(handle));
+          objects_[(offset[0] + i) + counts_[0] * ((offset[1] + j) + counts_[1] * (offset[2] + k))] = handle;
         }
       }
 }

@@ -41,6 +41,8 @@ public:
   /// Copies `source` into this array at the given offset (ospCopyData).
   void copy_from(const Data& source, std::array<std::uint64_t, 3> offset);
 
+  void for_each_reference(const std::function<void(const Object&)>& visit) const override;
+
   /// The elements of a 1D array of `type` (one of `accepted`), converted to T by `convert`.
   template <class T, class Convert>
   std::vector<T> to_vector(Convert&& convert) const {

@@ -46,16 +46,9 @@ TexCoordTransform Material::map_transform(const std::string& map) const {
   return transform;
 }
 
-bool Material::contains(const Material* material) const {
-  return material == this || (material1_ && material1_->contains(material)) ||
-         (material2_ && material2_->contains(material));
-}
-
 Ref<Material> Material::mix_part(const std::string& id) const {
+  // (A mix cannot contain itself: set_param refuses every cycle of references.)
   Ref<Material> part(get_object<Material>(id, OSP_MATERIAL, true));
-  // A mix that contained itself would be mixed without end.
-  if (part->contains(this))
-    throw Error(name() + ": parameter '" + id + "' is this mix or contains it: a mix cannot contain itself");
   if (!part->committed()) throw Error(name() + ": parameter '" + id + "': its material has not been committed");
   return part;
 }

@@ -160,6 +160,9 @@ void Object::set_param(const std::string& id, OSPDataType type, const void* mem)
         throw Error(name() + ": parameter '" + id + "' was set as " + type_name(type) + " but the object is " +
                     type_name(handle->kind()));
       p.type = handle->kind();
+      if (refers_to(*handle, *this))
+        throw Error(name() + ": parameter '" + id + "': " + handle->name() + " refers to this " + name() +
+                    " (directly or through other objects): a cycle of references, never released");
     }
     p.object = handle;
   } else {
@@ -169,6 +172,26 @@ void Object::set_param(const std::string& id, OSPDataType type, const void* mem)
     std::memcpy(p.bytes.data(), mem, n);
   }
   staged_[id] = std::move(p);
+}
+
+bool refers_to(const Object& from, const Object& target) {
+  std::vector<const Object*> to_visit{&from};
+  std::unordered_set<const Object*> seen{&from};
+  while (!to_visit.empty()) {
+    const Object* o = to_visit.back();
+    to_visit.pop_back();
+    if (o == &target) return true;
+    o->for_each_reference([&](const Object& next) {
+      if (seen.insert(&next).second) to_visit.push_back(&next);
+    });
+  }
+  return false;
+}
+
+void Object::for_each_reference(const std::function<void(const Object&)>& visit) const {
+  for (const auto* params : {&staged_, &committed_})
+    for (const auto& [id, p] : *params)
+      if (p.object) visit(*p.object);
 }
 
 std::vector<std::string> Object::commit() {

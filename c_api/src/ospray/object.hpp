@@ -6,6 +6,7 @@
 #include <atomic>
 #include <cstdint>
 #include <cstring>
+#include <functional>
 #include <map>
 #include <mutex>
 #include <optional>
@@ -97,6 +98,10 @@ struct Param {
   mutable Ref<Object> as_array;
 };
 
+/// Whether `target` is `from` or is reached from it through references: a parameter of
+/// `target` set to `from` would make a cycle, whose objects would never be released.
+bool refers_to(const Object& from, const Object& target);
+
 class Object {
 public:
   Object(OSPDataType kind, std::string subtype) : kind_(kind), subtype_(std::move(subtype)) {
@@ -126,6 +131,10 @@ public:
   /// What the last commit reported at OSPRay's debug level (parameters OSPRay ignores
   /// without a warning), to be passed on as status messages.
   const std::vector<std::string>& debug_messages() const { return debug_messages_; }
+
+  /// Calls `visit` with every object this one holds a reference to through its
+  /// parameters, staged or committed (and, for arrays, through its elements).
+  virtual void for_each_reference(const std::function<void(const Object&)>& visit) const;
 
   /// Monotonic stamp of the last successful commit of this object or anything it uses.
   virtual std::uint64_t version() const { return version_; }

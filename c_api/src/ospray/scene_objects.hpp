@@ -237,8 +237,6 @@ protected:
   void on_commit() override;
 
 private:
-  /// Whether `material` is this one or one of its parts, at any depth (a mix's).
-  bool contains(const Material* material) const;
   /// A mix's `material1` and `material2`, checked: committed, and not containing this mix.
   Ref<Material> mix_part(const std::string& id) const;
 
