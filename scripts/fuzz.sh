@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
-# Fuzzes every file reader with libFuzzer (ASan + UBSan): builds the targets in fuzz/,
-# makes their seed corpora (from the shared data sets and fuzz/make_seeds.py's tiny files),
+# Fuzzes every file reader and the C API with libFuzzer (ASan + UBSan): builds the targets
+# in fuzz/ (the C API target against the shim, built by clang with the same sanitizers in
+# <FUZZ_BUILD>/shim), makes their seed corpora (from the shared data sets,
+# fuzz/make_seeds.py's tiny files and fuzz/make_c_api_seeds.py's scenes of API calls),
 # runs each for FUZZ_SECONDS, one after another, and prints per target the executions,
 # the coverage (cov: and ft: of libFuzzer's last status line) and whether it found a crash,
 # leak, undefined behaviour or hang. Not run by CI. Exits 1 when any target found something.
@@ -26,14 +28,14 @@ fi
 # each format, small enough that each run is quick.
 declare -A max_len=([ply]=8192 [points]=8192 [obj]=4096 [pdb]=8192 [volume_raw]=2048 [nrrd]=2048
                     [vtu]=8192 [vti]=4096 [vtp]=8192 [legacy_vtk]=4096 [shading_json]=1024
-                    [transfer_function]=1024)
+                    [transfer_function]=1024 [c_api]=4096)
 # Words of each format (fuzz/<name>.dict) that mutations insert whole.
 declare -A dict=([vtu]=vtk_xml [vti]=vtk_xml [vtp]=vtk_xml [legacy_vtk]=legacy_vtk [nrrd]=nrrd [obj]=obj
                  [volume_raw]=volume_raw [shading_json]=shading_json [transfer_function]=transfer_function)
 if (($#)); then
   targets=("$@")
 else
-  targets=(ply points obj pdb volume_raw nrrd vtu vti vtp legacy_vtk shading_json transfer_function)
+  targets=(ply points obj pdb volume_raw nrrd vtu vti vtp legacy_vtk shading_json transfer_function c_api)
 fi
 for t in "${targets[@]}"; do
   [ -f "fuzz/fuzz_$t.cpp" ] || { echo "fuzz.sh: no target fuzz/fuzz_$t.cpp" >&2; exit 2; }
@@ -42,6 +44,7 @@ done
 mkdir -p "$build"
 rm -rf "$build/seeds"
 python3 fuzz/make_seeds.py "$data" "$build/seeds"
+python3 fuzz/make_c_api_seeds.py "$build/seeds/c_api"
 
 # shellcheck disable=SC2054  # the commas are in a compiler flag
 flags=(-std=c++20 -O1 -g -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined
@@ -49,7 +52,20 @@ flags=(-std=c++20 -O1 -g -fsanitize=fuzzer,address,undefined -fno-sanitize-recov
 libs=(-ltbb -lembree3 -lpugixml -lz -ltinyobjloader -lstb)
 for t in "${targets[@]}"; do
   echo "building fuzz_$t"
-  clang++-14 "${flags[@]}" "fuzz/fuzz_$t.cpp" -o "$build/fuzz_$t" "${libs[@]}"
+  if [ "$t" = c_api ]; then
+    # The shim as CMake builds it, by clang with libFuzzer's coverage instrumentation and
+    # the same sanitizers (the ISA objects are localized by GNU ld, as in the regular
+    # build); the target links it as an application does.
+    cmake -S . -B "$build/shim" -DCMAKE_C_COMPILER=clang-14 -DCMAKE_CXX_COMPILER=clang++-14 -DCMAKE_BUILD_TYPE=None \
+          -DCMAKE_CXX_FLAGS="-O1 -g -fsanitize=fuzzer-no-link" -DSCIRAY_SANITIZE=address,undefined \
+          -DSCIRAY_BUILD_TESTS=OFF -DSCIRAY_BUILD_BENCH=OFF -DSCIRAY_BUILD_EXAMPLES=OFF -DSCIRAY_BUILD_PYTHON=OFF \
+          -DSCIRAY_MPI=OFF -DCMAKE_LINKER=ld.bfd >"$build/shim.log"
+    cmake --build "$build/shim" -j "$(nproc)" --target sciray_ospray >>"$build/shim.log"
+    clang++-14 "${flags[@]}" fuzz/fuzz_c_api.cpp -o "$build/fuzz_c_api" -L"$build/shim/c_api" -lsciray_ospray \
+               -Wl,-rpath,"$PWD/$build/shim/c_api"
+  else
+    clang++-14 "${flags[@]}" "fuzz/fuzz_$t.cpp" -o "$build/fuzz_$t" "${libs[@]}"
+  fi
 done
 
 # UB aborts the run (-fno-sanitize-recover), with the stack that reached it. libFuzzer
