@@ -1,4 +1,5 @@
-// Reproducers of what fuzzing the file readers found (fuzz/, scripts/fuzz.sh), and of what
+// Reproducers of what fuzzing the file readers and the C API found (fuzz/, scripts/fuzz.sh; the
+// C API's are in test_c_api.cpp), and of what
 // reading the readers alongside found and the fuzz targets' sanitizers confirmed: each input
 // once read out of bounds, was undefined behaviour or became wrong data silently; now each
 // is refused with a sciray::Error that names the file and what is wrong (or, where the
@@ -13,6 +14,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <span>
 #include <string>
 #include <string_view>
@@ -24,6 +26,7 @@
 #include "sciray/io/points.hpp"
 #include "sciray/io/volume.hpp"
 #include "sciray/io/vtk.hpp"
+#include "sciray/volume/macrocells.hpp"
 
 // The sciray tool's JSON readers (examples/sciray is not on the tests' include path).
 #include "../../examples/sciray/shading_json.hpp"
@@ -230,3 +233,20 @@ TEST_CASE("fuzz: a camera file with a number beyond double is invalid JSON, name
   fs::remove(camera);
 }
 #endif
+
+// From the C API target: a particle volume whose particles are tiny against its box asked
+// for more macrocells than any integer holds; the float was converted to one (undefined,
+// INT64_MIN here, so one macrocell where 128 were due), and so were cell positions.
+TEST_CASE("fuzz: macrocells over a box 1e36 cells wide are 128 a side, and far boxes land in the last", "[fuzz][volume]") {
+  const sciray::Box3f box{{0.f, 0.f, 0.f}, {1e30f, 1.f, 1.f}};
+  const sciray::MacrocellGrid grid = sciray::MacrocellGrid::over(box, 1e-6f, 4);
+  CHECK(grid.counts == std::array<std::int64_t, 3>{128, 128, 128});
+  std::vector<float> ranges = grid.empty_ranges();
+  grid.widen({{9e29f, 0.f, 0.f}, {1e38f, 0.f, 0.f}}, 0.25f, 0.75f, ranges);
+  CHECK(ranges[2 * grid.index(127, 0, 0)] == 0.25f);
+  CHECK(ranges[2 * grid.index(127, 0, 0) + 1] == 0.75f);
+  CHECK(ranges[2 * grid.index(115, 0, 0)] == 0.25f);  // 9e29 / (1e30 / 128) = 115.2
+  CHECK(ranges[2 * grid.index(114, 0, 0)] > 1.f);     // untouched: +inf
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  CHECK(sciray::MacrocellGrid::over({{0.f, 0.f, 0.f}, {nan, 1.f, 1.f}}, 1.f, 4).counts[0] == 1);
+}

@@ -31,8 +31,9 @@ struct MacrocellGrid {
     m.lower = box.lower;
     for (int k = 0; k < 3; ++k) {
       const float extent = box.upper[k] - box.lower[k];
+      // Clamped as a float: a tiny cell in a large box is beyond any integer (and NaN is 1).
       const float cells = std::ceil(extent / (static_cast<float>(n) * cell));
-      m.counts[k] = std::clamp<std::int64_t>(static_cast<std::int64_t>(cells), 1, 128);
+      m.counts[k] = cells >= 128.f ? 128 : cells > 1.f ? static_cast<std::int64_t>(cells) : 1;
       const float size = extent / static_cast<float>(m.counts[k]);
       (k == 0 ? m.size.x : k == 1 ? m.size.y : m.size.z) = size > 0.f ? size : 1.f;
     }
@@ -59,8 +60,9 @@ struct MacrocellGrid {
     std::int64_t first[3], last[3];
     for (int k = 0; k < 3; ++k) {
       const auto cell = [&](float v) {
-        const float c = (v - lower[k]) / size[k];
-        return c <= 0.f ? std::int64_t{0} : std::min<std::int64_t>(static_cast<std::int64_t>(c), counts[k] - 1);
+        const float c = (v - lower[k]) / size[k];  // compared as a float: it may be beyond any integer
+        if (!(c > 0.f)) return std::int64_t{0};
+        return c >= static_cast<float>(counts[k] - 1) ? counts[k] - 1 : static_cast<std::int64_t>(c);
       };
       first[k] = cell(box.lower[k]), last[k] = cell(box.upper[k]);
     }
