@@ -25,6 +25,34 @@ if [ "$kind" = thread ]; then
 else
   cmake --build "$build_dir" -j "$jobs"
 fi
+if [ "$kind" = thread ]; then
+  # ThreadSanitizer sees only the synchronization of instrumented code. Debian's libtbb is
+  # not instrumented: every wait for a task would look like a race. So oneTBB is built from
+  # Debian's own source package (the version of libtbb-dev's headers) with
+  # -fsanitize=thread, and the tests run with it. (Embree stays uninstrumented: tests/tsan.supp.)
+  tbb_lib=$PWD/$build_dir/onetbb/lib
+  sudo=""
+  [ "$(id -u)" -eq 0 ] || sudo=sudo
+  if [ ! -f "$tbb_lib/libtbb.so.12" ]; then
+    if ! apt-get source --print-uris -qq onetbb >/dev/null 2>&1; then
+      sources=/etc/apt/sources.list.d/sciray-deb-src.sources
+      printf 'Types: deb-src\nURIs: http://deb.debian.org/debian\nSuites: bookworm bookworm-updates\nComponents: main\nSigned-By: /usr/share/keyrings/debian-archive-keyring.gpg\n' |
+        $sudo tee "$sources" >/dev/null
+      $sudo apt-get update -qq
+    fi
+    rm -rf "$build_dir/onetbb"
+    mkdir -p "$build_dir/onetbb/src"
+    (cd "$build_dir/onetbb/src" && apt-get source -qq --download-only onetbb && tar xf onetbb_*.orig.tar.*)
+    tbb_source=$(find "$build_dir/onetbb/src" -mindepth 1 -maxdepth 1 -type d | head -1)
+    cmake -S "$tbb_source" -B "$build_dir/onetbb/build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DTBB_SANITIZE=thread \
+          -DTBB_TEST=OFF -DTBB_EXAMPLES=OFF -DTBBMALLOC_BUILD=OFF -DTBB_STRICT=OFF >/dev/null
+    cmake --build "$build_dir/onetbb/build" -j "$jobs" --target tbb
+    mkdir -p "$tbb_lib"
+    cp -P "$(dirname "$(find "$build_dir/onetbb/build" -name 'libtbb.so.12' | head -1)")"/libtbb.so* "$tbb_lib/"
+  fi
+  export LD_LIBRARY_PATH=$tbb_lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}
+fi
+
 export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=1}
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
 export TSAN_OPTIONS=${TSAN_OPTIONS:-halt_on_error=1:second_deadlock_stack=1:suppressions=$PWD/tests/tsan.supp}
