@@ -203,7 +203,7 @@ TEST_CASE("amr: the finest block wins where blocks overlap", "[volume][amr]") {
   }
 }
 
-TEST_CASE("amr: outside the box a sample is the background; inside its faces the edge cells extend", "[volume][amr]") {
+TEST_CASE("amr: outside the box a sample is the background, inside its faces the edge cells extend", "[volume][amr]") {
   AmrData d = three_levels(linear_field);
   const Amr nan_outside(d);
   const Box3f box = nan_outside.bounds();

@@ -276,7 +276,7 @@ TEST_CASE("Paints: sample() reports what eval() gives and the pdf integrates to 
 
 // Not carPaint's flakes: as OSPRay's, a flake's lobe is cosine-weighted about the flake's
 // normal, not the surface's, and its coat's flip-flop colour depends on wo.
-TEST_CASE("Minnaert and Oren-Nayar and the paints' layers are reciprocal; the horizon lobe is not", "[bsdf][paint]") {
+TEST_CASE("Minnaert and Oren-Nayar and the paints' layers are reciprocal, the horizon lobe is not", "[bsdf][paint]") {
   CarPaintMaterial rough = white_paint();
   rough.roughness = 0.8f, rough.coat_color = {0.6f, 0.8f, 1.f}, rough.coat_roughness = 0.4f;
   const std::vector<std::pair<std::string, Material>> materials = {

@@ -29,7 +29,7 @@ TEST_CASE("the C headers declare every function (checked by a C99 translation un
   CHECK(sciray_header_check() == 77);
 }
 
-TEST_CASE("ospInit parses and removes --osp: arguments; the device reports its version", "[c_api][device]") {
+TEST_CASE("ospInit parses and removes --osp: arguments, the device reports its version", "[c_api][device]") {
   int argc = 4;
   const char* argv[] = {"app", "--osp:num-threads=2", "scene.ply", "--osp:log-level=warning", nullptr};
   REQUIRE(ospInit(&argc, argv) == OSP_NO_ERROR);
@@ -140,7 +140,7 @@ TEST_CASE("OSPRay's promotions: a float or vec3f backgroundColor gets alpha 0", 
   CHECK(api.messages.errors.empty());
 }
 
-TEST_CASE("commit semantics: parameters take effect at commit; an instance commit is enough", "[c_api][commit]") {
+TEST_CASE("commit semantics: parameters take effect at commit, an instance commit is enough", "[c_api][commit]") {
   ApiFixture api;
   BunnyScene scene;
   const auto before = render_rgba8(scene, 32, 32);
@@ -468,7 +468,7 @@ TEST_CASE("the remaining entry points: strided vertices, typed setters, retain, 
   CHECK(api.messages.codes.back() == OSP_INVALID_ARGUMENT);
 }
 
-TEST_CASE("the device's isa parameter picks the kernels; every ISA renders the same frame", "[c_api][device]") {
+TEST_CASE("the device's isa parameter picks the kernels, every ISA renders the same frame", "[c_api][device]") {
   ApiFixture api;
   BunnyScene scene;
   const auto best = render_rgba8(scene, 40, 40);

@@ -25,7 +25,7 @@ using namespace sciray_test;
 // ---- clipping geometry ---------------------------------------------------------------------
 
 
-TEST_CASE("clipping: a sphere bites the cube's front face; picks and frames reach the back face",
+TEST_CASE("clipping: a sphere bites the cube's front face, picks and frames reach the back face",
           "[c_api][clipping]") {
   ApiFixture api;
   ClipScene scene;
@@ -183,7 +183,7 @@ TEST_CASE("clipping: boxes, analytic under axis-aligned scales, exact meshes und
   CHECK(api.messages.errors.empty());
 }
 
-TEST_CASE("clipping: a closed mesh clips its inside; meshes must be closed, at most 64", "[c_api][clipping]") {
+TEST_CASE("clipping: a closed mesh clips its inside, meshes must be closed, at most 64", "[c_api][clipping]") {
   ApiFixture api;
   ClipScene scene;
   // The box [-0.5, 0.5]² x [-1.5, -0.5] as 6 quads with 4 vertices each (closed once

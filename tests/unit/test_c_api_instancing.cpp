@@ -221,7 +221,7 @@ TEST_CASE("instancing: a pick on the 2nd of 3 translated instances reports that 
     ospRelease(o);
 }
 
-TEST_CASE("box: picks land on the analytic faces; bounds; colours; instanced boxes", "[c_api][box]") {
+TEST_CASE("box: picks land on the analytic faces, bounds, colours, instanced boxes", "[c_api][box]") {
   ApiFixture api;
   // Box 0 spans x -2..-0.5, y -1..1, z -1..1; box 1 x 0.5..2, y -0.5..0.5, z 0..3.
   const float boxes[2][6] = {{-2.f, -1.f, -1.f, -0.5f, 1.f, 1.f}, {0.5f, -0.5f, 0.f, 2.f, 0.5f, 3.f}};
@@ -286,7 +286,7 @@ TEST_CASE("box: picks land on the analytic faces; bounds; colours; instanced box
   CHECK(api.messages.errors.empty());
 }
 
-TEST_CASE("plane: picks land on the analytic plane; bounded planes; colours; instanced planes", "[c_api][plane]") {
+TEST_CASE("plane: picks land on the analytic plane, bounded planes, colours, instanced planes", "[c_api][plane]") {
   ApiFixture api;
   // z = 2, and x + z = 4 (its normal not normalized) bounded to x in [1, 3]: OSPRay's
   // coefficients mean a·x + b·y + c·z = d (measured against OSPRay 3.1's runtime).

@@ -77,7 +77,7 @@ void check_iso_pick(const GeometryScene& scene, Picker& pick, float x, float y, 
 
 }  // namespace
 
-TEST_CASE("isosurface: picks land on the analytic surface; bounds; isovalue arrays; recommits take effect",
+TEST_CASE("isosurface: picks land on the analytic surface, bounds, isovalue arrays, recommits take effect",
           "[c_api][isosurface]") {
   ApiFixture api;
   // f = x + 2y + 3z on [0, 1.9]³: trilinear interpolation reproduces it, so the surface

@@ -25,7 +25,7 @@ using namespace sciray_test;
 // ---- sphere and curve geometry ----------------------------------------------------------
 
 
-TEST_CASE("sphere: picks land on the analytic surface; bounds; both intersectors", "[c_api][sphere]") {
+TEST_CASE("sphere: picks land on the analytic surface, bounds, both intersectors", "[c_api][sphere]") {
   ApiFixture api;
   for (const char* intersector : intersectors) {
     INFO("intersector " << intersector);
@@ -229,7 +229,7 @@ TEST_CASE("sphere: the sciray and embree intersectors render the same image on e
   CHECK(api.messages.errors.empty());
 }
 
-TEST_CASE("sphere: transformed instances move centres and scale radii; strided arrays",
+TEST_CASE("sphere: transformed instances move centres and scale radii, strided arrays",
           "[c_api][sphere][instancing]") {
   ApiFixture api;
   // x, y, z, r interleaved: 'sphere.position' and 'sphere.radius' read the same buffer.
@@ -264,7 +264,7 @@ TEST_CASE("sphere: transformed instances move centres and scale radii; strided a
   CHECK(api.messages.errors.empty());
 }
 
-TEST_CASE("curve: a round linear tube picked at its centre; vertex.position with radius", "[c_api][curve]") {
+TEST_CASE("curve: a round linear tube picked at its centre, vertex.position with radius", "[c_api][curve]") {
   ApiFixture api;
   // A tube of radius 0.25 along x from -1 to 1, seen from z = -5.
   GeometryScene scene(new_curves({-1.f, 0.f, 0.f, 0.25f, 1.f, 0.f, 0.f, 0.25f}, {0}, OSP_ROUND, OSP_LINEAR));

@@ -197,7 +197,7 @@ TEST_CASE("volume: every voxel type renders", "[c_api][volume][render]") {
   CHECK(api.messages.errors.empty());
 }
 
-TEST_CASE("volume: the bricked layout renders the linear layout's image; filters", "[c_api][volume][render]") {
+TEST_CASE("volume: the bricked layout renders the linear layout's image, filters", "[c_api][volume][render]") {
   ApiFixture api;
   // 37x20x11 uchar voxels (across several bricks) of a ball of growing value.
   const std::uint64_t nx = 37, ny = 20, nz = 11;
@@ -264,7 +264,7 @@ TEST_CASE("volume: bounds of vertex- and cell-centred grids, of models, groups, 
   CHECK(api.messages.errors.empty());
 }
 
-TEST_CASE("volume: surfaces and volumes in one group; a surface inside the volume ends it",
+TEST_CASE("volume: surfaces and volumes in one group, a surface inside the volume ends it",
           "[c_api][volume][render]") {
   ApiFixture api;
   VolumeScene scene;
@@ -312,7 +312,7 @@ TEST_CASE("volume: clipping geometry cuts volumes", "[c_api][volume][clipping]")
   CHECK(api.messages.errors.empty());
 }
 
-TEST_CASE("volume: a recommitted transfer function keeps the macrocells; a recommitted volume rebuilds them",
+TEST_CASE("volume: a recommitted transfer function keeps the macrocells, a recommitted volume rebuilds them",
           "[c_api][volume][commit]") {
   ApiFixture api;
   log_debug(api.device);
@@ -361,7 +361,7 @@ TEST_CASE("volume: a recommitted transfer function keeps the macrocells; a recom
   CHECK(api.messages.errors.empty());
 }
 
-TEST_CASE("volume: instance transforms place volumes; one model serves several instances", "[c_api][volume][instancing]") {
+TEST_CASE("volume: instance transforms place volumes, one model serves several instances", "[c_api][volume][instancing]") {
   ApiFixture api;
   log_debug(api.device);
   VolumeScene scene;

@@ -249,7 +249,7 @@ TEST_CASE("panoramic camera: equirectangular over the whole sphere", "[camera][p
   CHECK(dot(stereo.generate(0.1f, 0.7f).org - c.position, stereo.generate(0.1f, 0.7f).dir) == Approx(0.f).margin(1e-6));
 }
 
-TEST_CASE("orthographic cameras ignore the lens sample; packets with lens and stereo equal single rays",
+TEST_CASE("orthographic cameras ignore the lens sample, packets with lens and stereo equal single rays",
           "[camera][simd]") {
   OrthographicCamera o;
   const auto ortho = prepare(o);
@@ -424,7 +424,7 @@ TEST_CASE("moving camera: each ray is placed by the motion keys at its own time"
   }
 }
 
-TEST_CASE("shutter: a global one spans its interval; rolling ones sweep columns or rows", "[camera][shutter]") {
+TEST_CASE("shutter: a global one spans its interval, rolling ones sweep columns or rows", "[camera][shutter]") {
   OrthographicCamera c;
   c.shutter_open = 0.2f, c.shutter_close = 0.6f;
   const auto time = [&](float sx, float sy, float u) { return prepare(c).generate(sx, sy, 0.5f, 0.5f, u).time; };
@@ -467,7 +467,7 @@ TEST_CASE("shutter: a global one spans its interval; rolling ones sweep columns 
   CHECK(prepare(s).generate(0.5f, 0.25f).time == Approx(0.5f));
 }
 
-TEST_CASE("imageStart and imageEnd show a region of the image plane; nearClip starts the rays", "[camera][region]") {
+TEST_CASE("imageStart and imageEnd show a region of the image plane, nearClip starts the rays", "[camera][region]") {
   PerspectiveCamera c;
   c.position = {0.f, 1.f, 3.f};
   c.fovy = 50.f;

@@ -173,7 +173,7 @@ TEST_CASE("clipping: round cubic curves of every basis clip the sweep of their d
   }
 }
 
-TEST_CASE("clipping: curve sets clip together; invertNormals keeps a tube's inside", "[clipping][curves]") {
+TEST_CASE("clipping: curve sets clip together, invertNormals keeps a tube's inside", "[clipping][curves]") {
   accel::Device device;
   Clipping clipping;
   // Kept: inside the tube along x of radius 0.5; clipped there too: inside the tube

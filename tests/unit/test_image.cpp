@@ -106,7 +106,7 @@ TEST_CASE("PFM drops alpha: RGBA is written as RGB", "[image][pfm]") {
       for (int c = 0; c < 3; ++c) CHECK(rgb.at(x, y, c) == rgba.at(x, y, c));
 }
 
-TEST_CASE("PFM stores the bottom row first; Image keeps the top row first", "[image][pfm]") {
+TEST_CASE("PFM stores the bottom row first, Image keeps the top row first", "[image][pfm]") {
   const int width = 2, height = 3;
   Image gradient = constant_image(width, height, 1, 0.f);
   for (int y = 0; y < height; ++y)

@@ -219,7 +219,7 @@ TEST_CASE("scivis: a sphere light with a radius is sampled at its centre, as in 
 
 // ---- the ao renderer -------------------------------------------------------------
 
-TEST_CASE("ao: an eye light, kd times the cosine to the camera; a ceiling dims it by aoIntensity only within aoDistance", "[renderers]") {
+TEST_CASE("ao: an eye light, kd times the cosine to the camera, a ceiling dims it by aoIntensity only within aoDistance", "[renderers]") {
   const Vec3f kd{0.6f, 0.5f, 0.4f};
   AOParams params;
   params.materials = {ObjMaterial{.kd = kd}};

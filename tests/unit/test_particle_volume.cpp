@@ -129,7 +129,7 @@ TEST_CASE("particle: one particle is a Gaussian cut off at radiusSupportFactor r
   CHECK(Particles(d).sample({1.f, 2.f, 3.f}) == 1.f);
 }
 
-TEST_CASE("particle: overlapping particles sum; the value range is found between them", "[volume][particle]") {
+TEST_CASE("particle: overlapping particles sum, the value range is found between them", "[volume][particle]") {
   ParticleData d;
   d.positions = {{0.f, 0.f, 0.f}, {1.5f, 0.f, 0.f}, {0.7f, 0.9f, 0.f}};
   d.radii = {1.f, 0.7f, 0.4f};
@@ -151,7 +151,7 @@ TEST_CASE("particle: overlapping particles sum; the value range is found between
   CHECK(volume.value_range()[1] > 1.f);  // the maximum lies between particles 0 and 2, not at a centre
 }
 
-TEST_CASE("particle: clampMaxCumulativeValue clamps the sum; estimateValueRanges off takes [Σ negative weights, clamp]",
+TEST_CASE("particle: clampMaxCumulativeValue clamps the sum, estimateValueRanges off takes [Σ negative weights, clamp]",
           "[volume][particle]") {
   ParticleData d;
   d.positions = {{0.f, 0.f, 0.f}, {0.2f, 0.f, 0.f}, {0.f, 0.3f, 0.f}};

@@ -129,7 +129,7 @@ TEST_CASE("slice: a linear field through a linear transfer function shows its an
   }
 }
 
-TEST_CASE("slice: bounds cut the plane; colours multiply; any voxel type and layout", "[slice]") {
+TEST_CASE("slice: bounds cut the plane, colours multiply, any voxel type and layout", "[slice]") {
   const auto volume = uint8_field();
   // x + y + z = 1.45 bounded to x in [0.3, 0.7] and z in [0, 1] (inside the volume).
   const std::vector<Planes::Plane> planes{{1.f, 1.f, 1.f, -1.45f}};
@@ -263,7 +263,7 @@ TEST_CASE("volume texture: a sphere shows the transfer function of the volume's 
   }
 }
 
-TEST_CASE("volume texture: spheres show nothing beyond the volume; the transform and instances move the samples",
+TEST_CASE("volume texture: spheres show nothing beyond the volume, the transform and instances move the samples",
           "[volume_texture][instancing]") {
   const auto volume = float_field();
   for (auto isa : supported_isas()) {

@@ -125,7 +125,7 @@ TEST_CASE("a ray restarted at a reported sphere hit finds the far side, not the 
   CHECK(restarted > 2500);
 }
 
-TEST_CASE("discs face the ray; oriented discs face their normal", "[spheres]") {
+TEST_CASE("discs face the ray, oriented discs face their normal", "[spheres]") {
   SphereData data;
   data.positions = {0.f, 0.f, 0.f};
   data.radius = 1.f;

@@ -168,7 +168,7 @@ TEST_CASE("structuredSpherical: values interpolate trilinearly in (r, θ, φ) in
   CHECK(v.sample({0.75f, 0.f, 0.f}) == d.values[1 + 7 * 6]);  // vertex (1, 6, 0): r 0.75, θ 90°, φ 0°
 }
 
-TEST_CASE("structuredSpherical: outside the grid a sample is the background; φ does not wrap", "[volume][spherical]") {
+TEST_CASE("structuredSpherical: outside the grid a sample is the background, φ does not wrap", "[volume][spherical]") {
   // r in [1, 2], θ in [0°, 60°], φ in [0°, 270°].
   StructuredSphericalData d = grid({5, 5, 10}, {1.f, 0.f, 0.f}, {0.25f, 15.f, 30.f}, [](auto...) { return 3.0; });
   const StructuredSpherical v(d);

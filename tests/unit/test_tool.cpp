@@ -369,7 +369,7 @@ TEST_CASE("sciray render: bad renderers, materials and lights are named", "[tool
   CHECK_THAT(error_of("--spp 0"), Catch::Contains("'pixelSamples' must be at least 1"));
 }
 
-TEST_CASE("sciray render: an error target stops accumulation; filters, tonemapping and cameras", "[tool][frame]") {
+TEST_CASE("sciray render: an error target stops accumulation, filters, tonemapping and cameras", "[tool][frame]") {
   const Run run = run_tool("render builtin:cornell_box --renderer pathtracer --size 32x32 --frames 500 "
                            "--error-target 0.05 --json -o " + scratch("target.png").string());
   INFO(run.output);

@@ -77,7 +77,7 @@ TEST_CASE("unstructured: a hexahedron interpolates trilinearly, also with faces 
     CHECK(twisted.sample({p.x + 0.3f * p.y * p.z, p.y, p.z}) == Approx(trilinear(p)).epsilon(1e-5));
 }
 
-TEST_CASE("unstructured: outside every cell a sample is the background; cell values are constant per cell",
+TEST_CASE("unstructured: outside every cell a sample is the background, cell values are constant per cell",
           "[volume][unstructured]") {
   UnstructuredData d = cube_of(CellType::tetrahedron, linear);
   const Unstructured nan_outside(d);

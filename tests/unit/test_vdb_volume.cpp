@@ -69,7 +69,7 @@ std::string error_of(VdbData d) {
 
 }  // namespace
 
-TEST_CASE("vdb: trilinear reproduces a linear field across leaves; voxel i sits at index i", "[volume][vdb]") {
+TEST_CASE("vdb: trilinear reproduces a linear field across leaves, voxel i sits at index i", "[volume][vdb]") {
   const Vdb v(cube(2, linear));
   CHECK(v.node_count() == 8);
   CHECK(v.bounds().lower == Vec3f{0, 0, 0});
@@ -142,7 +142,7 @@ TEST_CASE("vdb: tiles on every level, 0 in the domain's gaps, trilinear across n
   CHECK(std::isnan(Vdb(one).sample({15.5f, 1.f, 1.f})));  // but samples outside the nodes' box are the background
 }
 
-TEST_CASE("vdb: indexToObject scales, rotates and translates; gradients follow", "[volume][vdb]") {
+TEST_CASE("vdb: indexToObject scales, rotates and translates, gradients follow", "[volume][vdb]") {
   VdbData d = cube(2, linear);
   d.index_to_object = {{0.5f, 0, 0}, {0, 0.5f, 0}, {0, 0, 0.5f}, {1, 2, 3}};
   const Vdb scaled(d);

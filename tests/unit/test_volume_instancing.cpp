@@ -120,7 +120,7 @@ TEST_CASE("a scaled constant slab absorbs per world unit, as OSPRay's volumes do
     }
 }
 
-TEST_CASE("placed volumes composite in each lane's depth order; placements share their model",
+TEST_CASE("placed volumes composite in each lane's depth order, placements share their model",
           "[volume][instancing][render]") {
   // A red σ = 2 cube behind a blue one, added first, then placed once more further
   // behind: each lane shows blue over red over red, a = 1 − exp(−2) each.
