@@ -237,7 +237,8 @@ protected:
   void on_commit() override;
 
 private:
-  /// A mix's `material1` and `material2`, checked: committed, and not containing this mix.
+  /// A mix's `material1` and `material2`, checked: committed (a mix containing itself is a
+  /// cycle of references, which set_param refuses).
   Ref<Material> mix_part(const std::string& id) const;
 
   /// A texture2d map: the material's map `name` shows `texture` through `transform`.
