@@ -61,8 +61,8 @@ for t in "${targets[@]}"; do
           -DSCIRAY_BUILD_TESTS=OFF -DSCIRAY_BUILD_BENCH=OFF -DSCIRAY_BUILD_EXAMPLES=OFF -DSCIRAY_BUILD_PYTHON=OFF \
           -DSCIRAY_MPI=OFF -DCMAKE_LINKER=ld.bfd >"$build/shim.log"
     cmake --build "$build/shim" -j "$(nproc)" --target sciray_ospray >>"$build/shim.log"
-    clang++-14 "${flags[@]}" fuzz/fuzz_c_api.cpp -o "$build/fuzz_c_api" -L"$build/shim/c_api" -lsciray_ospray \
-               -Wl,-rpath,"$PWD/$build/shim/c_api"
+    shim_lib=$(cd "$build/shim/c_api" && pwd)
+    clang++-14 "${flags[@]}" fuzz/fuzz_c_api.cpp -o "$build/fuzz_c_api" -L"$shim_lib" -lsciray_ospray -Wl,-rpath,"$shim_lib"
   else
     clang++-14 "${flags[@]}" "fuzz/fuzz_$t.cpp" -o "$build/fuzz_$t" "${libs[@]}"
   fi
