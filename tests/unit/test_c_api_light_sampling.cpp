@@ -125,7 +125,7 @@ constexpr float pi = 3.14159265f;
 }  // namespace
 
 TEST_CASE("C API: a light in a moving instance lights each path-traced sample from where it is at the sample's "
-          "time; scivis sees the shutter's middle instant, as OSPRay's",
+          "time, scivis sees the shutter's middle instant, as OSPRay's",
           "[c_api][motion][lights]") {
   ApiFixture api;
   LitFloor scene;
