@@ -21,11 +21,15 @@
 #include <system_error>
 #include <vector>
 
+#include "sciray/accel/trace.hpp"
+#include "sciray/geometry/triangle_mesh.hpp"
 #include "sciray/io/obj.hpp"
 #include "sciray/io/pdb.hpp"
 #include "sciray/io/points.hpp"
 #include "sciray/io/volume.hpp"
 #include "sciray/io/vtk.hpp"
+#include "sciray/render/camera.hpp"
+#include "sciray/scene/world.hpp"
 #include "sciray/volume/macrocells.hpp"
 
 // The sciray tool's JSON readers (examples/sciray is not on the tests' include path).
@@ -249,4 +253,39 @@ TEST_CASE("fuzz: macrocells over a box 1e36 cells wide are 128 a side, and far b
   CHECK(ranges[2 * grid.index(114, 0, 0)] > 1.f);     // untouched: +inf
   const float nan = std::numeric_limits<float>::quiet_NaN();
   CHECK(sciray::MacrocellGrid::over({{0.f, 0.f, 0.f}, {nan, 1.f, 1.f}}, 1.f, 4).counts[0] == 1);
+}
+
+// From the C API target: a camera at x = 3.4e38 sent the path tracer's rays to Embree, whose
+// traversal asserts on coordinates beyond 1.8e18: an abort in Debian's build of Embree.
+TEST_CASE("fuzz: rays beyond Embree's range miss instead of aborting, and a camera that far is refused",
+          "[fuzz][accel]") {
+  sciray::accel::Device device;
+  sciray::World<sciray::TriangleMesh> world(device);
+  sciray::MeshData square;
+  square.positions = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0};
+  square.indices = {0, 1, 2, 0, 2, 3};
+  world.add(sciray::TriangleMesh(std::move(square)));
+  world.commit();
+
+  using A = xsimd::sse2;
+  using F = sciray::simd::Float<A>;
+  const float huge = 3.4e38f, nan = std::numeric_limits<float>::quiet_NaN();
+  sciray::Ray<F> rays;  // lanes 0 and 2 look down at the square; 1 starts at x = 3.4e38, 3 at z = NaN
+  rays.org = {F{0.5f, huge, 0.5f, 0.5f}, F(0.5f), F{1.f, 1.f, 1.f, nan}};
+  rays.dir = {F(0.f), F(0.f), F(-1.f)};
+  const auto all_lanes = F(0.f) == F(0.f);
+  const auto hit = sciray::accel::intersect<A>(world.scene(), rays, all_lanes).hit;
+  const auto blocked = sciray::accel::occluded<A>(world.scene(), rays, all_lanes);
+  for (int lane = 0; lane < 4; ++lane) {
+    INFO("lane " << lane);
+    CHECK(sciray::simd::lane(hit, lane) == (lane % 2 == 0));
+    CHECK(sciray::simd::lane(blocked, lane) == (lane % 2 == 0));
+  }
+  sciray::Ray<float> far_ray;
+  far_ray.org = {huge, 0.5f, 1.f};
+  far_ray.dir = {0.f, 0.f, -1.f};
+  CHECK_FALSE(sciray::accel::intersect<sciray::simd::scalar>(world.scene(), far_ray, true).hit);
+
+  CHECK_THROWS_WITH(sciray::detail::view_basis("perspective", {huge, -3.5f, 4.f}, {0.f, 0.f, -1.f}, {0.f, 1.f, 0.f}, 1.f),
+                    Contains("'position' has a coordinate of magnitude 3.4e+38, beyond 1.8e18"));
 }

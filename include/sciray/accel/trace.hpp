@@ -85,6 +85,20 @@ void store_ray(EmbreeRay& out, const Ray<simd::Float<Arch>>& ray) {
 
 }  // namespace detail
 
+/// The lanes Embree can trace: origin and direction within ±max_ray_coordinate (NaN is
+/// not) and tnear, tfar not NaN. intersect and occluded treat the others as missing
+/// everything: a camera placed, or a path bounced, beyond that range.
+template <class Arch>
+simd::Mask<Arch> traceable(const Ray<simd::Float<Arch>>& ray) {
+  using F = simd::Float<Arch>;
+  const F limit(max_ray_coordinate);
+  const auto within = [&](const F& x) -> simd::Mask<Arch> { return simd::abs(x) <= limit; };
+  const simd::Mask<Arch> origin = within(ray.org.x) & within(ray.org.y) & within(ray.org.z);
+  const simd::Mask<Arch> direction = within(ray.dir.x) & within(ray.dir.y) & within(ray.dir.z);
+  const simd::Mask<Arch> interval = (ray.tnear == ray.tnear) & (ray.tfar == ray.tfar);
+  return origin & direction & interval;
+}
+
 /// An extra test every candidate hit must pass before it counts (clipping): Embree's
 /// context filter function, and what it reads. Scenes traced with one must have been
 /// built with RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION.
@@ -121,12 +135,14 @@ inline const void* HitFilter::data_of(const RTCIntersectContext* context) {
   return reinterpret_cast<const detail::Context*>(context)->filter_data;
 }
 
-/// Closest hit for each active lane. `coherent` tells Embree the rays are primary-like.
+/// Closest hit for each active lane (none for a lane that is not traceable). `coherent`
+/// tells Embree the rays are primary-like.
 template <class Arch>
-Hit<Arch> intersect(RTCScene scene, const Ray<simd::Float<Arch>>& ray, const simd::Mask<Arch>& active,
+Hit<Arch> intersect(RTCScene scene, const Ray<simd::Float<Arch>>& ray, const simd::Mask<Arch>& requested,
                     bool coherent = true, const HitFilter& filter = {}) {
   using F = simd::Float<Arch>;
   using I = simd::Int<Arch>;
+  const simd::Mask<Arch> active = requested & traceable<Arch>(ray);
   detail::Context context_storage = detail::make_context(coherent, filter);
   RTCIntersectContext& context = context_storage.embree;
   Hit<Arch> hit;
@@ -171,11 +187,13 @@ Hit<Arch> intersect(RTCScene scene, const Ray<simd::Float<Arch>>& ray, const sim
   return hit;
 }
 
-/// Whether anything blocks each active lane between tnear and tfar.
+/// Whether anything blocks each active lane between tnear and tfar (nothing, for a lane
+/// that is not traceable).
 template <class Arch>
-simd::Mask<Arch> occluded(RTCScene scene, const Ray<simd::Float<Arch>>& ray, const simd::Mask<Arch>& active,
+simd::Mask<Arch> occluded(RTCScene scene, const Ray<simd::Float<Arch>>& ray, const simd::Mask<Arch>& requested,
                           bool coherent = false, const HitFilter& filter = {}) {
   using F = simd::Float<Arch>;
+  const simd::Mask<Arch> active = requested & traceable<Arch>(ray);
   detail::Context context_storage = detail::make_context(coherent, filter);
   RTCIntersectContext& context = context_storage.embree;
   if constexpr (std::is_same_v<Arch, simd::scalar>) {

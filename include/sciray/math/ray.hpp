@@ -5,6 +5,10 @@
 
 namespace sciray {
 
+/// The largest ray origin or direction coordinate Embree traces (its FLT_LARGE): its
+/// traversal asserts on a larger or non-finite one.
+inline constexpr float max_ray_coordinate = 1.844e18f;
+
 /// One ray (T = float) or a packet of W rays (T = Float<Arch>); `dir` is unit length
 /// for camera rays, so hit distances are Euclidean.
 template <class T>

@@ -6,6 +6,7 @@
 // while the shutter is open rebuilds its basis per lane at the ray's time.
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <memory>
 #include <numbers>
 #include <string>
@@ -110,6 +111,13 @@ struct ViewBasis {
 inline ViewBasis view_basis(const std::string& type, const Vec3f& position, const Vec3f& direction, const Vec3f& up,
                             float aspect) {
   if (!finite(position)) throw Error(type + " camera: 'position' is not finite");
+  if (const float farthest = std::max({std::abs(position.x), std::abs(position.y), std::abs(position.z)});
+      farthest > max_ray_coordinate) {
+    char value[32];
+    std::snprintf(value, sizeof value, "%g", static_cast<double>(farthest));
+    throw Error(type + " camera: 'position' has a coordinate of magnitude " + value +
+                ", beyond 1.8e18, farther out than rays can start");
+  }
   if (!finite(direction) || length(direction) == 0.f)
     throw Error(type + " camera: 'direction' must be a finite non-zero vector");
   if (!finite(up) || length(up) == 0.f) throw Error(type + " camera: 'up' must be a finite non-zero vector");
