@@ -93,10 +93,10 @@ simd::Mask<Arch> traceable(const Ray<simd::Float<Arch>>& ray) {
   using F = simd::Float<Arch>;
   const F limit(max_ray_coordinate);
   const auto within = [&](const F& x) -> simd::Mask<Arch> { return simd::abs(x) <= limit; };
-  const simd::Mask<Arch> origin = within(ray.org.x) & within(ray.org.y) & within(ray.org.z);
-  const simd::Mask<Arch> direction = within(ray.dir.x) & within(ray.dir.y) & within(ray.dir.z);
-  const simd::Mask<Arch> interval = (ray.tnear == ray.tnear) & (ray.tfar == ray.tfar);
-  return origin & direction & interval;
+  const simd::Mask<Arch> origin = within(ray.org.x) && within(ray.org.y) && within(ray.org.z);
+  const simd::Mask<Arch> direction = within(ray.dir.x) && within(ray.dir.y) && within(ray.dir.z);
+  const simd::Mask<Arch> interval = (ray.tnear == ray.tnear) && (ray.tfar == ray.tfar);
+  return origin && direction && interval;
 }
 
 /// An extra test every candidate hit must pass before it counts (clipping): Embree's
@@ -142,7 +142,7 @@ Hit<Arch> intersect(RTCScene scene, const Ray<simd::Float<Arch>>& ray, const sim
                     bool coherent = true, const HitFilter& filter = {}) {
   using F = simd::Float<Arch>;
   using I = simd::Int<Arch>;
-  const simd::Mask<Arch> active = requested & traceable<Arch>(ray);
+  const simd::Mask<Arch> active = requested && traceable<Arch>(ray);
   detail::Context context_storage = detail::make_context(coherent, filter);
   RTCIntersectContext& context = context_storage.embree;
   Hit<Arch> hit;
@@ -193,7 +193,7 @@ template <class Arch>
 simd::Mask<Arch> occluded(RTCScene scene, const Ray<simd::Float<Arch>>& ray, const simd::Mask<Arch>& requested,
                           bool coherent = false, const HitFilter& filter = {}) {
   using F = simd::Float<Arch>;
-  const simd::Mask<Arch> active = requested & traceable<Arch>(ray);
+  const simd::Mask<Arch> active = requested && traceable<Arch>(ray);
   detail::Context context_storage = detail::make_context(coherent, filter);
   RTCIntersectContext& context = context_storage.embree;
   if constexpr (std::is_same_v<Arch, simd::scalar>) {
