@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "sciray/accel/trace.hpp"
+#include "sciray/geometry/isosurface_grid.hpp"
 #include "sciray/geometry/triangle_mesh.hpp"
 #include "sciray/io/obj.hpp"
 #include "sciray/io/pdb.hpp"
@@ -31,6 +32,7 @@
 #include "sciray/render/camera.hpp"
 #include "sciray/scene/world.hpp"
 #include "sciray/volume/macrocells.hpp"
+#include "sciray/volume/structured_regular.hpp"
 
 // The sciray tool's JSON readers (examples/sciray is not on the tests' include path).
 #include "../../examples/sciray/shading_json.hpp"
@@ -288,4 +290,23 @@ TEST_CASE("fuzz: rays beyond Embree's range miss instead of aborting, and a came
 
   CHECK_THROWS_WITH(sciray::detail::view_basis("perspective", {huge, -3.5f, 4.f}, {0.f, 0.f, -1.f}, {0.f, 1.f, 0.f}, 1.f),
                     Contains("'position' has a coordinate of magnitude 3.4e+38, beyond 1.8e18"));
+}
+
+// From the C API target: an AO ray along a cell face of an isosurface's macrocell entered it
+// at a NaN position (0 × ∞ in o + d·t), which the cell walk converted to an integer
+// (undefined behaviour, which GCC reports with -fsanitize=float-cast-overflow: not part of
+// its -fsanitize=undefined, so scripts/sanitize.sh address adds it; clang's includes it).
+// This ray reaches the same arithmetic: it starts outside the box along x with a direction
+// of 1e-39 there, so it enters at t = ∞, where y and z (direction 0) are NaN.
+TEST_CASE("fuzz: an exact isosurface's cell walk from a NaN entry point finds nothing", "[fuzz][isosurface]") {
+  auto voxels = std::make_shared<std::vector<float>>(27);
+  for (std::size_t i = 0; i < voxels->size(); ++i) (*voxels)[i] = static_cast<float>(i % 4) / 4.f;
+  const auto volume = std::make_shared<const sciray::StructuredRegular<float>>(
+      sciray::LinearLayout<float>(voxels->data(), {3, 3, 3}, voxels), sciray::VolumeGrid{});
+  const sciray::GridIsosurface isosurface(volume, {0.5f});
+  REQUIRE(isosurface.primitive_count() == 1);
+  sciray::Ray<float> ray;
+  ray.org = {-1.f, 1.f, 1.f};
+  ray.dir = {1e-39f, 0.f, 0.f};
+  CHECK_FALSE(isosurface.first_crossing(ray, 0).hit);
 }

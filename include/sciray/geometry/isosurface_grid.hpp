@@ -68,8 +68,12 @@ public:
     int step[3];
     const Vec3f entry = o + d * t0;
     for (int k = 0; k < 3; ++k) {
-      cell[k] = std::clamp<std::int64_t>(static_cast<std::int64_t>(std::floor(entry[k])), static_cast<std::int64_t>(lo[k]),
-                                         static_cast<std::int64_t>(hi[k]) - 1);
+      // Clamped as a float before the conversion: the entry of a ray along a cell face, or
+      // far out, may be NaN or beyond any integer.
+      const float first = std::floor(entry[k]);
+      cell[k] = first >= hi[k] - 1.f ? static_cast<std::int64_t>(hi[k]) - 1
+                : first > lo[k]        ? static_cast<std::int64_t>(first)
+                                       : static_cast<std::int64_t>(lo[k]);
       step[k] = d[k] >= 0.f ? 1 : -1;
       const float boundary = static_cast<float>(cell[k] + (step[k] > 0 ? 1 : 0));
       next[k] = d[k] != 0.f ? (boundary - o[k]) / d[k] : std::numeric_limits<float>::infinity();
