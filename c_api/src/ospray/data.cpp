@@ -74,10 +74,12 @@ void Data::copy_from(const Data& source, std::array<std::uint64_t, 3> offset) {
       throw Error("data: ospCopyData of " + std::to_string(source.counts_[d]) + " items at index " +
                   std::to_string(offset[d]) + " overflows dimension " + std::to_string(d + 1) + " of size " +
                   std::to_string(counts_[d]));
+  std::vector<const Object*> copied;
   for (const Ref<Object>& o : source.objects_)
-    if (o && refers_to(*o, *this))
-      throw Error("data: ospCopyData would put into this array " + o->name() +
-                  ", which refers to the array: a cycle of references, never released");
+    if (o) copied.push_back(o.get());
+  if (const Object* o = first_referring_to(copied, *this))
+    throw Error("data: ospCopyData would put into this array " + o->name() +
+                ", which refers to the array: a cycle of references, never released");
   const std::size_t bytes = size_of(element_type_);
   for (std::uint64_t k = 0; k < source.counts_[2]; ++k)
     for (std::uint64_t j = 0; j < source.counts_[1]; ++j)

@@ -174,18 +174,21 @@ void Object::set_param(const std::string& id, OSPDataType type, const void* mem)
   staged_[id] = std::move(p);
 }
 
-bool refers_to(const Object& from, const Object& target) {
-  std::vector<const Object*> to_visit{&from};
-  std::unordered_set<const Object*> seen{&from};
+const Object* first_referring_to(std::span<const Object* const> from, const Object& target) {
+  // Each object visited once, with the start it was first reached from.
+  std::vector<std::pair<const Object*, const Object*>> to_visit;
+  std::unordered_set<const Object*> seen;
+  for (const Object* start : from)
+    if (seen.insert(start).second) to_visit.emplace_back(start, start);
   while (!to_visit.empty()) {
-    const Object* o = to_visit.back();
+    const auto [o, start] = to_visit.back();
     to_visit.pop_back();
-    if (o == &target) return true;
-    o->for_each_reference([&](const Object& next) {
-      if (seen.insert(&next).second) to_visit.push_back(&next);
+    if (o == &target) return start;
+    o->for_each_reference([&, start = start](const Object& next) {
+      if (seen.insert(&next).second) to_visit.emplace_back(&next, start);
     });
   }
-  return false;
+  return nullptr;
 }
 
 void Object::for_each_reference(const std::function<void(const Object&)>& visit) const {

@@ -11,6 +11,7 @@
 #include <mutex>
 #include <optional>
 #include <set>
+#include <span>
 #include <string>
 #include <type_traits>
 #include <unordered_set>
@@ -98,9 +99,14 @@ struct Param {
   mutable Ref<Object> as_array;
 };
 
-/// Whether `target` is `from` or is reached from it through references: a parameter of
-/// `target` set to `from` would make a cycle, whose objects would never be released.
-bool refers_to(const Object& from, const Object& target);
+/// The first of `from` that is `target` or reaches it through references, or null: a
+/// reference from `target` to it would make a cycle, whose objects would never be released.
+/// One walk for all of `from`, however much of the graph they share.
+const Object* first_referring_to(std::span<const Object* const> from, const Object& target);
+inline bool refers_to(const Object& from, const Object& target) {
+  const Object* start = &from;
+  return first_referring_to({&start, 1}, target) != nullptr;
+}
 
 class Object {
 public:
