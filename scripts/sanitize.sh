@@ -24,10 +24,6 @@ cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=None -DCMAKE_CXX_FLAGS="-O1 -g1" -
       -DSCIRAY_BUILD_PYTHON=OFF -DPython3_EXECUTABLE=/usr/bin/python3
 if [ "$kind" = thread ]; then
   cmake --build "$build_dir" -j "$jobs" --target sciray_tests  # the only program it runs
-else
-  cmake --build "$build_dir" -j "$jobs"
-fi
-if [ "$kind" = thread ]; then
   # ThreadSanitizer sees only the synchronization of instrumented code. Debian's libtbb is
   # not instrumented: every wait for a task would look like a race. So oneTBB is built from
   # Debian's own source package (the version of libtbb-dev's headers) with
@@ -53,6 +49,8 @@ if [ "$kind" = thread ]; then
     cp -P "$(dirname "$(find "$build_dir/onetbb/build" -name 'libtbb.so.12' | head -1)")"/libtbb.so* "$tbb_lib/"
   fi
   export LD_LIBRARY_PATH=$tbb_lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}
+else
+  cmake --build "$build_dir" -j "$jobs"
 fi
 
 export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=1}
