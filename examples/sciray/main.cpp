@@ -39,6 +39,7 @@
 #include "sciray/io/points.hpp"
 #include "sciray/shim/engine.hpp"
 #include "sciray/testing/scenes.hpp"
+#include "json_float.hpp"
 #include "progress.hpp"
 #include "shading_json.hpp"
 #include "volume_scene.hpp"
@@ -59,7 +60,8 @@ sciray::Vec3f vec3_field(const nlohmann::json& j, const char* key, const std::st
   const auto& v = j[key];
   if (!v.is_array() || v.size() != 3 || !v[0].is_number() || !v[1].is_number() || !v[2].is_number())
     throw sciray::Error(file + ": \"" + key + "\" must be an array of 3 numbers");
-  return {v[0].get<float>(), v[1].get<float>(), v[2].get<float>()};
+  const std::string what = file + ": \"" + key + "\"";
+  return {sciray_tool::json_float(v[0], what), sciray_tool::json_float(v[1], what), sciray_tool::json_float(v[2], what)};
 }
 
 /// {"position":[x,y,z], "look_at":[x,y,z], "up":[x,y,z], "fovy":deg}
@@ -78,8 +80,7 @@ sciray::PerspectiveCamera read_camera(const std::string& file, float aspect) {
   camera.direction = vec3_field(j, "look_at", file) - camera.position;
   camera.up = j.contains("up") ? vec3_field(j, "up", file) : sciray::Vec3f{0.f, 1.f, 0.f};
   if (j.contains("fovy")) {
-    if (!j["fovy"].is_number()) throw sciray::Error(file + ": \"fovy\" must be a number");
-    camera.fovy = j["fovy"].get<float>();
+    camera.fovy = sciray_tool::json_float(j["fovy"], file + ": \"fovy\"");
   }
   camera.aspect = aspect;
   return camera;

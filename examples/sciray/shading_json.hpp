@@ -17,6 +17,7 @@
 #include "sciray/render/camera.hpp"
 #include "sciray/render/light.hpp"
 #include "sciray/render/material.hpp"
+#include "json_float.hpp"
 
 namespace sciray_tool {
 
@@ -34,8 +35,7 @@ public:
   }
   void read(const char* key, float& v) {
     if (!take(key)) return;
-    if (!j_[key].is_number()) throw sciray::Error(what_ + ": \"" + key + "\" must be a number");
-    v = j_[key].get<float>();
+    v = json_float(j_[key], what_ + ": \"" + key + "\"");
   }
   void read(const char* key, bool& v) {
     if (!take(key)) return;
@@ -46,12 +46,13 @@ public:
     if (!take(key)) return;
     const auto& a = j_[key];
     if (a.is_number()) {
-      v = sciray::splat(a.get<float>());
+      v = sciray::splat(json_float(a, what_ + ": \"" + key + "\""));
       return;
     }
     if (!a.is_array() || a.size() != 3 || !a[0].is_number() || !a[1].is_number() || !a[2].is_number())
       throw sciray::Error(what_ + ": \"" + key + "\" must be a number or an array of 3 numbers");
-    v = {a[0].get<float>(), a[1].get<float>(), a[2].get<float>()};
+    const std::string what = what_ + ": \"" + key + "\"";
+    v = {json_float(a[0], what), json_float(a[1], what), json_float(a[2], what)};
   }
   /// A colour whose absence means something (carPaint's flakeColor): set only when given.
   void read(const char* key, std::optional<sciray::Vec3f>& v) {
@@ -65,7 +66,8 @@ public:
     const auto& a = j_[key];
     if (!a.is_array() || a.size() != 2 || !a[0].is_number() || !a[1].is_number())
       throw sciray::Error(what_ + ": \"" + key + "\" must be an array of 2 numbers");
-    v = {a[0].get<float>(), a[1].get<float>()};
+    const std::string what = what_ + ": \"" + key + "\"";
+    v = {json_float(a[0], what), json_float(a[1], what)};
   }
   /// A map `key`: an image file, with its rotation, scale and translation. PNG colour maps
   /// hold sRGB values and are made linear; scalar maps are read as they are.

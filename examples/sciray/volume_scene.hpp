@@ -15,6 +15,7 @@
 #include "sciray/io/volume.hpp"
 #include "sciray/io/vtk.hpp"
 #include "sciray/shim/engine.hpp"
+#include "json_float.hpp"
 #include "sciray/testing/scenes.hpp"
 
 namespace sciray_tool {
@@ -47,7 +48,7 @@ inline sciray::TransferFunction read_transfer_function(const std::string& file, 
     std::vector<float> out;
     for (const auto& x : v) {
       if (!x.is_number()) throw sciray::Error(file + ": " + what + " must be an array of numbers");
-      out.push_back(x.get<float>());
+      out.push_back(json_float(x, file + ": " + what));
     }
     return out;
   };

@@ -221,22 +221,50 @@ TEST_CASE("fuzz: the tool's JSON with a number beyond double is invalid JSON, na
   fs::remove(tf);
 }
 
+TEST_CASE("fuzz: the tool's JSON numbers beyond float's range are refused, named", "[fuzz][tool]") {
+  // 1e300 parses as a double; nlohmann's get<float>() made it an infinity (an undefined
+  // conversion), which reached the scene silently.
+  const fs::path tf = write_temp("tf.json", R"({"colors": [[0, 0, 1]], "opacities": [1], "range": [0, 1e300]})");
+  REQUIRE_THROWS_WITH(sciray_tool::read_transfer_function(tf.string(), {0.f, 1.f}),
+                      Contains("tf.json: \"range\": 1e+300 does not fit a float"));
+  const auto material = [](const std::string& text) {
+    return sciray_tool::material_from_json(sciray_tool::parse_json_argument(text, "--material"), "--material");
+  };
+  REQUIRE_THROWS_WITH(material(R"({"type": "obj", "ns": -1e300})"),
+                      Contains("--material: \"ns\": -1e+300 does not fit a float"));
+  REQUIRE_THROWS_WITH(material(R"({"type": "obj", "kd": [0, 1e39, 0]})"),
+                      Contains("--material: \"kd\": 1e+39 does not fit a float"));
+  // The largest float still fits.
+  write_temp("tf.json", R"({"colors": [[0, 0, 1]], "opacities": [1], "range": [0, 3.4028234e38]})");
+  CHECK(sciray_tool::read_transfer_function(tf.string(), {0.f, 1.f}).value_range()[1] ==
+        std::numeric_limits<float>::max());
+  fs::remove(tf);
+}
+
 #ifdef SCIRAY_TOOL
-TEST_CASE("fuzz: a camera file with a number beyond double is invalid JSON, named", "[fuzz][tool]") {
+TEST_CASE("fuzz: a camera file with a number beyond double or float is refused, named", "[fuzz][tool]") {
   // read_camera is the tool's own (main.cpp): run the tool.
-  const fs::path camera = write_temp("camera.json", R"({"position": [0, 0, 1e400], "look_at": [0, 0, 0]})");
-  const std::string command = std::string(SCIRAY_TOOL) + " render --size 8x8 --camera " + camera.string() + " 2>&1";
-  FILE* pipe = popen(command.c_str(), "r");
-  REQUIRE(pipe);
-  std::string output;
-  char buffer[4096];
-  while (const std::size_t n = std::fread(buffer, 1, sizeof buffer, pipe)) output.append(buffer, n);
-  const int status = pclose(pipe);
-  INFO(output);
-  CHECK(WIFEXITED(status));
-  CHECK(WEXITSTATUS(status) == 1);
-  CHECK_THAT(output, Contains("camera.json: invalid JSON") && Contains("number overflow"));
-  fs::remove(camera);
+  const auto tool_output = [](const std::string& camera_json) {
+    const fs::path camera = write_temp("camera.json", camera_json);
+    const std::string command = std::string(SCIRAY_TOOL) + " render --size 8x8 --camera " + camera.string() + " 2>&1";
+    FILE* pipe = popen(command.c_str(), "r");
+    REQUIRE(pipe);
+    std::string output;
+    char buffer[4096];
+    while (const std::size_t n = std::fread(buffer, 1, sizeof buffer, pipe)) output.append(buffer, n);
+    const int status = pclose(pipe);
+    INFO(output);
+    CHECK(WIFEXITED(status));
+    CHECK(WEXITSTATUS(status) == 1);
+    fs::remove(camera);
+    return output;
+  };
+  CHECK_THAT(tool_output(R"({"position": [0, 0, 1e400], "look_at": [0, 0, 0]})"),
+             Contains("camera.json: invalid JSON") && Contains("number overflow"));
+  CHECK_THAT(tool_output(R"({"position": [0, 0, 1e300], "look_at": [0, 0, 0]})"),
+             Contains("camera.json: \"position\": 1e+300 does not fit a float"));
+  CHECK_THAT(tool_output(R"({"position": [0, 0, 5], "look_at": [0, 0, 0], "fovy": 1e39})"),
+             Contains("camera.json: \"fovy\": 1e+39 does not fit a float"));
 }
 #endif
 
