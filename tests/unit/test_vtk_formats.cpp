@@ -599,6 +599,15 @@ TEST_CASE("VTK: bad files are named", "[io][vtk][errors]") {
   empty.replace(empty.find("Piece Extent=\"0 3 0 2 0 1\""), 26, "Piece Extent=\"0 3 2 0 0 1\"");
   CHECK_THAT(error_of([&] { io::read_vti(write_file("empty.vti", empty)); }),
              Catch::Contains("empty.vti: Piece Extent '0 3 2 0 0 1' is empty along axis 1"));
+  // 16 pieces of 2^60 samples each: their sum once wrapped past 2^64 to 0, and the file was
+  // said to hold too few; each piece's array is what falls short.
+  std::string huge = "<VTKFile type=\"ImageData\"><ImageData WholeExtent=\"0 1048575 0 1048575 0 1048575\">\n";
+  for (int p = 0; p < 16; ++p)
+    huge += "<Piece Extent=\"0 1048575 0 1048575 0 1048575\"><PointData><DataArray type=\"Float32\" Name=\"f\" "
+            "format=\"ascii\">0</DataArray></PointData></Piece>\n";
+  huge += "</ImageData></VTKFile>\n";
+  CHECK_THAT(error_of([&] { io::read_vti(write_file("huge.vti", huge)); }),
+             Catch::Contains("huge.vti: DataArray 'f': has 1 tuples, 1152921504606846976 expected"));
   const std::string poly = write_file("poly.vtp", vtp_text({"ascii"}));
   CHECK_THAT(error_of([&] { io::read_vti(poly); }),
              Catch::Contains("poly.vtp: a VTK file of type 'PolyData', not ImageData"));
@@ -607,7 +616,7 @@ TEST_CASE("VTK: bad files are named", "[io][vtk][errors]") {
 
   // .vtp
   CHECK_THAT(error_of([&] { io::read_vtp(write_file("nan.vtp", vtp_text({"binary"}, std::nanf("")))); }),
-             Catch::Contains("nan.vtp: Points: point 4 is (nan, 0.000000, 0.000000), not finite"));
+             Catch::Contains("nan.vtp: Points: point 4 is (nan, 0, 0), not finite as a float"));
   std::string outside = vtp_text({"ascii"});
   outside.replace(outside.find("4 5 3 "), 6, "4 9 3 ");
   CHECK_THAT(error_of([&] { io::read_vtp(write_file("outside.vtp", outside)); }),
@@ -654,7 +663,7 @@ TEST_CASE("VTK: bad files are named", "[io][vtk][errors]") {
   std::string nan_point = legacy_grid(false, true);
   nan_point.replace(nan_point.find("\n0.000000 1.000000 0.000000"), 9, "\nnan");  // point 3
   CHECK_THAT(error_of([&] { io::read_legacy_vtk(write_file("nan.vtk", nan_point)); }),
-             Catch::Contains("nan.vtk: POINTS: point 3 is (nan, 1.000000, 0.000000), not finite"));
+             Catch::Contains("nan.vtk: POINTS: point 3 is (nan, 1, 0), not finite as a float"));
   std::string far_point = legacy_poly(true, true);
   const std::size_t connectivity = far_point.find("CONNECTIVITY vtktypeint64\n") + 26;
   far_point[connectivity + 8 * 9 + 7] = 12;  // the quad's last point
@@ -674,6 +683,16 @@ TEST_CASE("VTK: bad files are named", "[io][vtk][errors]") {
         legacy + ": has no point or cell array 'pressure' (its point arrays: 'f', 'v', 'g'; its cell arrays: 'c')");
   CHECK_THAT(error_of([&] { io::read_legacy_vtk(poly); }),
              Catch::Contains("poly.vtp: not a legacy VTK file: the first line is '<?xml version=\"1.0\"?>'"));
+  std::string unnumbered = legacy_image(false);
+  unnumbered.replace(unnumbered.find("Version ") + 8, 1, "x");
+  CHECK_THAT(error_of([&] { io::read_legacy_vtk(write_file("unnumbered.vtk", unnumbered)); }),
+             Catch::Contains("unnumbered.vtk: the version in '# vtk DataFile Version x.") &&
+                 Catch::Contains("' is not a number"));
+  std::string overflowing = legacy_image(false);
+  overflowing.replace(overflowing.find("Version ") + 8, 1, "99999999999");
+  CHECK_THAT(error_of([&] { io::read_legacy_vtk(write_file("overflowing.vtk", overflowing)); }),
+             Catch::Contains("overflowing.vtk: the version in '# vtk DataFile Version 99999999999") &&
+                 Catch::Contains("' is not a number"));
   std::string neither = legacy_image(false);
   neither.replace(neither.find("ASCII"), 5, "TEXT ");
   CHECK_THAT(error_of([&] { io::read_legacy_vtk(write_file("neither.vtk", neither)); }),

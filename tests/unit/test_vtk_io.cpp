@@ -123,5 +123,14 @@ TEST_CASE("VTK .vtu: bad files are named", "[io][vtk][errors]") {
   CHECK(error_of([&] { io::unstructured_volume(surface, "", "grid.vtu"); }) ==
         "grid.vtu: cell 1 has VTK type 5, which is not a volume cell (tetrahedra, voxels, hexahedra, wedges, pyramids "
         "and their quadratic forms are)");
+  std::string dangling = vtu_text({"ascii"});
+  dangling.replace(dangling.find("4 5 6 8 "), 8, "4 5 6 9 ");  // the tetrahedron's apex, one past the last point
+  CHECK_THAT(error_of([&] { io::read_vtu(write_file("dangling.vtu", dangling)); }),
+             Catch::Contains("dangling.vtu: Cells 'connectivity' value 11 refers to point 9, but there are 9 points"));
+  // A coordinate beyond float's range would become infinite.
+  std::string far = vtu_text({"ascii"});
+  far.replace(far.find("0.500000 0.500000 2.000000"), 26, "0.500000 1e300 2.000000");
+  CHECK_THAT(error_of([&] { io::read_vtu(write_file("far.vtu", far)); }),
+             Catch::Contains("far.vtu: Points: point 8 is (0.5, 1e+300, 2), not finite as a float"));
   CHECK_THAT(error_of([&] { io::read_vtu("/nonexistent.vtu"); }), Catch::Contains("/nonexistent.vtu: cannot open file"));
 }

@@ -329,6 +329,20 @@ struct XmlFile {
   XmlFile& operator=(const XmlFile&) = delete;
 };
 
+/// Refuses points (x,y,z after x,y,z) with a NaN or infinite coordinate, or one beyond
+/// float's range (which would become infinite), naming the first by its index (`base` +
+/// its place) in the array `name`.
+inline void check_finite_points(const std::vector<double>& xyz, const char* name, std::size_t base, const Context& c) {
+  const auto fits = [](double v) { return std::abs(v) <= std::numeric_limits<float>::max(); };
+  for (std::size_t i = 0; i + 2 < xyz.size(); i += 3)
+    if (!fits(xyz[i]) || !fits(xyz[i + 1]) || !fits(xyz[i + 2])) {
+      std::ostringstream point;
+      point << '(' << xyz[i] << ", " << xyz[i + 1] << ", " << xyz[i + 2] << ')';
+      c.fail(std::string(name) + ": point " + std::to_string(base + i / 3) + " is " + point.str() +
+             ", not finite as a float");
+    }
+}
+
 }  // namespace vtk_detail
 
 /// Reads a .vtu file (its first piece).
@@ -344,6 +358,7 @@ inline UnstructuredGridFile read_vtu(const std::string& path) {
   UnstructuredGridFile out;
   const VtkArray p = read_array(piece.child("Points").child("DataArray"), c, points);
   if (p.components != 3) c.fail("Points must have 3 components, got " + std::to_string(p.components));
+  check_finite_points(p.values, "Points", 0, c);
   out.points.resize(points);
   for (std::size_t i = 0; i < points; ++i)
     out.points[i] = {static_cast<float>(p.values[3 * i]), static_cast<float>(p.values[3 * i + 1]),
@@ -384,6 +399,10 @@ inline UnstructuredGridFile read_vtu(const std::string& path) {
              std::to_string(previous) + ", " + std::to_string(out.connectivity.size()) + "]");
     previous = out.offsets[i];
   }
+  for (std::size_t i = 0; i < out.connectivity.size(); ++i)
+    if (out.connectivity[i] >= static_cast<std::int64_t>(points))
+      c.fail("Cells 'connectivity' value " + std::to_string(i) + " refers to point " +
+             std::to_string(out.connectivity[i]) + ", but there are " + std::to_string(points) + " points");
   for (const char* kind : {"PointData", "CellData"}) {
     const pugi::xml_node data = piece.child(kind);
     const bool point = std::string(kind) == "PointData";

@@ -366,12 +366,15 @@ inline VolumeFile read_vti(const std::string& path, const std::string& field = "
   };
   const VolumeDims dims = samples(whole);
   volume_detail::byte_count(dims, VoxelKind::float64, c.file);  // refuses dims whose count overflows
+  // Each piece lies within the whole, so its count fits; their sum saturates at the whole's
+  // rather than wrapping around past 2^64 with many huge pieces.
+  const auto whole_count = static_cast<std::uint64_t>(dims[0] * dims[1] * dims[2]);
   std::uint64_t held = 0;
   for (const pugi::xml_node& piece : pieces) {
     const VolumeDims d = samples(extent_of(piece, "Extent"));
-    held += static_cast<std::uint64_t>(d[0] * d[1] * d[2]);
+    held = std::min(whole_count, held + static_cast<std::uint64_t>(d[0] * d[1] * d[2]));
   }
-  if (held < static_cast<std::uint64_t>(dims[0] * dims[1] * dims[2]))
+  if (held < whole_count)
     c.fail("the pieces hold " + std::to_string(held) + " samples, too few to cover their extents' " +
            volume_detail::dims_text(dims));
   std::array<double, 3> corner{};

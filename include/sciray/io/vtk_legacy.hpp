@@ -340,7 +340,12 @@ inline LegacyVtkFile read_legacy_vtk(const std::string& path, const std::string&
   if (version.rfind("# vtk DataFile Version", 0) != 0)
     c.fail("not a legacy VTK file: the first line is '" + LegacyReader::shown(version) +
            "', not '# vtk DataFile Version x.x'");
-  const int major = std::atoi(version.c_str() + 22);
+  // The major version decides the cell lists' layout (5 and later: offsets and connectivity).
+  int major = 0;
+  const std::size_t digits = version.find_first_not_of(" \t", 22);
+  if (digits == std::string::npos ||
+      std::from_chars(version.data() + digits, version.data() + version.size(), major).ec != std::errc{})
+    c.fail("the version in '" + LegacyReader::shown(version) + "' is not a number");
   r.line();  // the title
   std::string format = upper_case(r.line());
   format.erase(format.find_last_not_of(" \t") + 1);

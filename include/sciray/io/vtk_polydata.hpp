@@ -51,15 +51,6 @@ struct PolyCells {
   std::vector<std::int64_t> connectivity, offsets;
 };
 
-/// Refuses points (x,y,z after x,y,z) with a NaN or infinite coordinate, naming the first by
-/// its index (`base` + its place) in the array `name`.
-inline void check_finite_points(const std::vector<double>& xyz, const char* name, std::size_t base, const Context& c) {
-  for (std::size_t i = 0; i + 2 < xyz.size(); i += 3)
-    if (!std::isfinite(xyz[i]) || !std::isfinite(xyz[i + 1]) || !std::isfinite(xyz[i + 2]))
-      c.fail(std::string(name) + ": point " + std::to_string(base + i / 3) + " is (" + std::to_string(xyz[i]) + ", " +
-             std::to_string(xyz[i + 1]) + ", " + std::to_string(xyz[i + 2]) + "), not finite");
-}
-
 /// Appends a piece of `xyz` points and its Verts, Lines, Polys and Strips (in that order,
 /// VTK's order of cells) to `out`: positions, triangles and the cell of each.
 /// `names` name the points and the four lists in messages.
