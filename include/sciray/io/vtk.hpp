@@ -465,9 +465,10 @@ inline UnstructuredData unstructured_volume(const UnstructuredGridFile& grid, co
       case 11: case 12: case 25: case 29: type = CellType::hexahedron, corners = 8; break;  // voxel, hexahedra
       case 13: case 26: type = CellType::wedge, corners = 6; break;  // wedge, quadratic wedge
       case 14: case 27: type = CellType::pyramid, corners = 5; break;  // pyramid, quadratic pyramid
-      default:
-        fail("cell " + std::to_string(cell) + " has VTK type " + std::to_string(vtk_type) +
-             ", which is not a volume cell (tetrahedra, voxels, hexahedra, wedges, pyramids and their quadratic forms are)");
+      default:  // thrown here, not by `fail`, so compilers see that type and corners are always set
+        throw Error(file + ": cell " + std::to_string(cell) + " has VTK type " + std::to_string(vtk_type) +
+                    ", which is not a volume cell (tetrahedra, voxels, hexahedra, wedges, pyramids and their quadratic "
+                    "forms are)");
     }
     if (end - begin < corners)
       fail("cell " + std::to_string(cell) + " of VTK type " + std::to_string(vtk_type) + " has " +
