@@ -116,6 +116,8 @@ TEST_CASE("irradiance estimated by sampling lights matches closed forms", "[ligh
     CHECK(irradiance(a, p, n) == Approx(pi * 0.7).epsilon(1e-3));
     HdriLight h(std::make_shared<Texture2D>(32, 16, std::vector<Vec3f>(32 * 16, splat(0.7f))));
     CHECK(irradiance(h, p, n) == Approx(pi * 0.7).epsilon(1e-2));
+    // A NaN direction (from a ray gone wrong) has no density, rather than a NaN one.
+    CHECK(h.pdf({std::nanf(""), 0.f, 0.f}) == 0.f);
   }
   SECTION("a distant light's irradiance does not depend on its angular size") {
     DistantLight sharp, soft;

@@ -231,6 +231,10 @@ TEST_CASE("photometric tables shape the emission by angle", "[light]") {
   CHECK(irradiance(spot, {0.5f, 0.f, 0.f}, n, 10) > 0.5);
   CHECK(irradiance(spot, {-0.5f, 0.f, 0.f}, n, 10) == Approx(0.0).margin(0.05));
   CHECK_THROWS(IntensityDistribution({1.f}, 1));
+  // A NaN direction (from a ray gone wrong) gets no light, rather than NaN.
+  const PhotometricFrame frame = photometric_frame({0.f, -1.f, 0.f}, {1.f, 0.f, 0.f});
+  CHECK(spot.distribution(frame, std::nanf(""), {0.f, -1.f, 0.f}) == 0.f);
+  CHECK(spot.distribution(frame, 1.f, {std::nanf(""), 0.f, 0.f}) == 0.f);
   spot.quantity = IntensityQuantity::power;
   CHECK_THROWS_WITH(validate(spot), Catch::Contains("with 'intensityDistribution'"));
 

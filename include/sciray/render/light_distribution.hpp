@@ -60,6 +60,9 @@ public:
   /// frame's axis is `cos_gamma`: linear in gamma and (for 2D data) in C.
   float operator()(const PhotometricFrame& f, float cos_gamma, const Vec3f& dir) const {
     constexpr float pi = std::numbers::pi_v<float>;
+    // A NaN direction (a ray that went wrong upstream) gets no light, and no undefined
+    // float-to-int conversion below.
+    if (!std::isfinite(cos_gamma)) return 0.f;
     const float u = std::acos(std::clamp(cos_gamma, -1.f, 1.f)) * static_cast<float>(gammas_ - 1) / pi;
     const std::size_t g0 = std::min(static_cast<std::size_t>(u), gammas_ - 1), g1 = std::min(g0 + 1, gammas_ - 1);
     const float gt = u - static_cast<float>(g0);
@@ -71,6 +74,7 @@ public:
     // C from c0 towards c90 in [0, 2 pi], as OSPRay computes it (from the reversed
     // direction, so that C = 0 falls on the c0 half-plane).
     const float v = (std::atan2(-dot(dir, f.c90), -dot(dir, f.c0)) + pi) * static_cast<float>(cs_) / (2.f * pi);
+    if (!std::isfinite(v)) return 0.f;
     const std::size_t c0 = std::min(static_cast<std::size_t>(v), cs_ - 1), c1 = (c0 + 1) % cs_;
     const float ct = v - static_cast<float>(c0);
     return row(c0) + (row(c1) - row(c0)) * ct;

@@ -134,6 +134,9 @@ private:
     return {phi / (2.f * std::numbers::pi_v<float>) + 0.5f, theta / std::numbers::pi_v<float>};
   }
   float pdf_uv(float u, float v) const {
+    // A NaN direction (a ray that went wrong upstream) gets no light, and no undefined
+    // float-to-int conversion below.
+    if (!std::isfinite(u) || !std::isfinite(v)) return 0.f;
     const Distribution& d = *distribution_;
     const int wdt = map_->width(), h = map_->height();
     const int x = std::clamp(static_cast<int>(u * wdt), 0, wdt - 1), y = std::clamp(static_cast<int>(v * h), 0, h - 1);
