@@ -162,6 +162,11 @@ TEST_CASE("texture wrap modes: repeat, mirrored repeat and clamp to edge outside
   CHECK(at(1.25f) == b);  // the last texel beyond 1
   CHECK(at(7.5f) == b);
   CHECK(at(-0.5f) == a);  // the first below 0
+  CHECK(at(3e38f) == b);  // however far: no overflowing texel index (it read a, and NaN when filtered)
+  CHECK(at(-3e38f) == a);
+  Texture2D filtered(2, 1, {a, b});
+  filtered.set_wrap(TextureWrap::clamp_to_edge, TextureWrap::repeat);
+  CHECK(filtered.sample_tiled(3e38f, 0.5f) == b);
   // Environment lookups keep u repeating and v clamped whatever the wrap modes.
   CHECK(texture.sample(1.25f, 3.f) == a);
 }

@@ -77,7 +77,9 @@ private:
   static float reduce(float t, TextureWrap mode) {
     if (mode == TextureWrap::repeat) return t - std::floor(t);
     if (mode == TextureWrap::mirrored_repeat) return t - 2.f * std::floor(0.5f * t);
-    return t;
+    // Clamped: every t beyond [-1, 2] reads the edge texel as -1 or 2 do, and a far one
+    // would overflow the texel index.
+    return std::clamp(t, -1.f, 2.f);
   }
   /// The texel index of `at` on an axis of `n` texels.
   static int index(int at, int n, TextureWrap mode) {
