@@ -141,15 +141,6 @@ struct RenderOptions {
   bool panoramic = false;
 };
 
-sciray::PixelFilter parse_pixel_filter(const std::string& name) {
-  const std::pair<const char*, sciray::PixelFilter> filters[] = {
-      {"point", sciray::PixelFilter::point}, {"box", sciray::PixelFilter::box}, {"gauss", sciray::PixelFilter::gauss},
-      {"mitchell", sciray::PixelFilter::mitchell}, {"blackman_harris", sciray::PixelFilter::blackman_harris}};
-  for (const auto& [n, f] : filters)
-    if (name == n) return f;
-  throw sciray::Error("--pixel-filter: expected point, box, gauss, mitchell or blackman_harris, got '" + name + "'");
-}
-
 /// The renderer and its parameters from the options (lights: the scene's or default).
 sciray::shim::RendererConfig renderer_config(const RenderOptions& opt, std::vector<sciray::Light> scene_lights,
                                              std::vector<sciray::Material> materials) {
@@ -404,7 +395,7 @@ int render(const RenderOptions& opt) {
     const sciray::shim::RendererConfig config = renderer_config(opt, scene.lights, materials);
     sciray::FrameSettings settings;
     settings.pixel_samples = opt.pixel_samples;
-    settings.pixel_filter = parse_pixel_filter(opt.pixel_filter);
+    settings.pixel_filter = sciray::pixel_filter_named(opt.pixel_filter, "--pixel-filter");
     sciray::validate(settings);
     if (opt.error_target < 0.f || !std::isfinite(opt.error_target))
       throw sciray::Error("--error-target must be a positive number");

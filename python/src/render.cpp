@@ -111,15 +111,6 @@ private:
   std::set<std::string> used_;
 };
 
-sciray::PixelFilter pixel_filter(const std::string& name) {
-  const std::pair<const char*, sciray::PixelFilter> filters[] = {
-      {"point", sciray::PixelFilter::point}, {"box", sciray::PixelFilter::box}, {"gauss", sciray::PixelFilter::gauss},
-      {"mitchell", sciray::PixelFilter::mitchell}, {"blackman_harris", sciray::PixelFilter::blackman_harris}};
-  for (const auto& [n, f] : filters)
-    if (name == n) return f;
-  value_error("pixelFilter", "expected point, box, gauss, mitchell or blackman_harris, got '" + name + "'");
-}
-
 std::shared_ptr<Renderer> make_renderer(const std::string& type, const py::kwargs& kwargs) {
   auto r = std::make_shared<Renderer>();
   r->type = type;
@@ -171,7 +162,8 @@ std::shared_ptr<Renderer> make_renderer(const std::string& type, const py::kwarg
   }
   p.read("pixelSamples", r->settings.pixel_samples);
   p.read("varianceThreshold", r->settings.variance_threshold);
-  if (auto filter = p.get("pixelFilter")) r->settings.pixel_filter = pixel_filter(py::str(*filter).cast<std::string>());
+  if (auto filter = p.get("pixelFilter"))
+    r->settings.pixel_filter = sciray::pixel_filter_named(py::str(*filter).cast<std::string>(), "pixelFilter");
   p.check_all_used();
   naming_arguments("Renderer('" + type + "')", {}, [&] { sciray::validate(r->settings); });
   return r;

@@ -51,6 +51,8 @@ def test_renderer_parameters_are_checked():
         sciray.Renderer("pathtracer", pixelSamples="4")
     with pytest.raises(ValueError, match="type: expected scivis, ao or pathtracer, got 'raster'"):
         sciray.Renderer("raster")
+    with pytest.raises(ValueError, match="pixelFilter: expected point, box, .* got 'cubic'"):
+        sciray.Renderer("scivis", pixelFilter="cubic")
     with pytest.raises(ValueError, match=r"Material\('obj'\): \"kd\" must be a number"):
         sciray.Material("obj", kd="red")
 

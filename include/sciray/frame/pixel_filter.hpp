@@ -25,6 +25,7 @@
 #include <cstdint>
 #include <numbers>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "sciray/error.hpp"
@@ -40,6 +41,18 @@ inline PixelFilter pixel_filter_from_int(int value) {
     throw Error("'pixelFilter' must be OSP_PIXELFILTER_POINT (0), _BOX (1), _GAUSS (2), _MITCHELL (3) or "
                 "_BLACKMAN_HARRIS (4), got " + std::to_string(value));
   return static_cast<PixelFilter>(value);
+}
+
+/// The filters' names where a text picks one (the tool's --pixel-filter, the Python
+/// module's pixelFilter), in the enum's order.
+inline constexpr std::array<const char*, 5> pixel_filter_names = {"point", "box", "gauss", "mitchell",
+                                                                  "blackman_harris"};
+
+/// The filter named `name`; `what` names the setting in the error for any other name.
+inline PixelFilter pixel_filter_named(std::string_view name, const std::string& what) {
+  for (std::size_t k = 0; k < pixel_filter_names.size(); ++k)
+    if (name == pixel_filter_names[k]) return static_cast<PixelFilter>(k);
+  throw Error(what + ": expected point, box, gauss, mitchell or blackman_harris, got '" + std::string(name) + "'");
 }
 
 /// Half the support of the filter in pixels.
