@@ -60,8 +60,8 @@ sciray::Vec3f vec3_field(const nlohmann::json& j, const char* key, const std::st
   const auto& v = j[key];
   if (!v.is_array() || v.size() != 3 || !v[0].is_number() || !v[1].is_number() || !v[2].is_number())
     throw sciray::Error(file + ": \"" + key + "\" must be an array of 3 numbers");
-  const std::string what = file + ": \"" + key + "\"";
-  return {sciray_tool::json_float(v[0], what), sciray_tool::json_float(v[1], what), sciray_tool::json_float(v[2], what)};
+  const auto coordinate = [&](int k) { return sciray_tool::json_float(v[k], file + ": \"" + key + "\""); };
+  return {coordinate(0), coordinate(1), coordinate(2)};
 }
 
 /// {"position":[x,y,z], "look_at":[x,y,z], "up":[x,y,z], "fovy":deg}

@@ -15,8 +15,8 @@
 #include "sciray/io/volume.hpp"
 #include "sciray/io/vtk.hpp"
 #include "sciray/shim/engine.hpp"
-#include "json_float.hpp"
 #include "sciray/testing/scenes.hpp"
+#include "json_float.hpp"
 
 namespace sciray_tool {
 

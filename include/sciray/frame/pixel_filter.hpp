@@ -52,7 +52,10 @@ inline constexpr std::array<const char*, 5> pixel_filter_names = {"point", "box"
 inline PixelFilter pixel_filter_named(std::string_view name, const std::string& what) {
   for (std::size_t k = 0; k < pixel_filter_names.size(); ++k)
     if (name == pixel_filter_names[k]) return static_cast<PixelFilter>(k);
-  throw Error(what + ": expected point, box, gauss, mitchell or blackman_harris, got '" + std::string(name) + "'");
+  std::string names;
+  for (std::size_t k = 0; k < pixel_filter_names.size(); ++k)
+    names += std::string(k == 0 ? "" : k + 1 < pixel_filter_names.size() ? ", " : " or ") + pixel_filter_names[k];
+  throw Error(what + ": expected " + names + ", got '" + std::string(name) + "'");
 }
 
 /// Half the support of the filter in pixels.
