@@ -32,6 +32,7 @@
 #include "sciray/render/camera.hpp"
 #include "sciray/scene/world.hpp"
 #include "sciray/volume/macrocells.hpp"
+#include "sciray/volume/particle.hpp"
 #include "sciray/volume/structured_regular.hpp"
 
 // The sciray tool's JSON readers (examples/sciray is not on the tests' include path).
@@ -283,6 +284,34 @@ TEST_CASE("fuzz: macrocells over a box 1e36 cells wide are 128 a side, and far b
   CHECK(ranges[2 * grid.index(114, 0, 0)] > 1.f);     // untouched: +inf
   const float nan = std::numeric_limits<float>::quiet_NaN();
   CHECK(sciray::MacrocellGrid::over({{0.f, 0.f, 0.f}, {nan, 1.f, 1.f}}, 1.f, 4).counts[0] == 1);
+}
+
+// From the C API target: particles at x = -3e38 and 3e38. Their box was 6e38 wide, infinite
+// as a float, and so were its macrocells; a particle's support edge minus the box's corner
+// was infinite too, and converted to a macrocell index (undefined: INT64_MIN here, so no
+// macrocell was widened and empty space skipping would have stepped over the particles).
+TEST_CASE("fuzz: particles wider apart than a float holds are refused, and far ones widen their macrocells",
+          "[fuzz][volume]") {
+  sciray::ParticleData d;
+  d.positions = {{-3e38f, 0.f, 0.f}, {3e38f, 0.f, 0.f}};
+  d.radii = {1.f, 1.f};
+  REQUIRE_THROWS_WITH(sciray::Particles(d), Contains("particle volume: the particles' supports span [-3e+38, 3e+38] "
+                                                     "along x, wider than a float holds"));
+  // As wide as fits: each particle's weight, 1, reaches the macrocells at its end.
+  d.positions = {{-1.5e38f, 0.f, 0.f}, {1.5e38f, 0.f, 0.f}};
+  const sciray::Particles particles(d);
+  const sciray::MacrocellGrid grid = particles.macrocell_grid(4);
+  REQUIRE(grid.counts[0] > 1);
+  std::vector<float> ranges = grid.empty_ranges();
+  particles.widen_macrocell_ranges(grid, 4, ranges);
+  const auto peak_at_x = [&](std::int64_t x) {
+    float peak = 0.f;
+    for (std::int64_t z = 0; z < grid.counts[2]; ++z)
+      for (std::int64_t y = 0; y < grid.counts[1]; ++y) peak = std::max(peak, ranges[2 * grid.index(x, y, z) + 1]);
+    return peak;
+  };
+  CHECK(peak_at_x(0) >= 1.f);
+  CHECK(peak_at_x(grid.counts[0] - 1) >= 1.f);
 }
 
 // From the C API target: a camera at x = 3.4e38 sent the path tracer's rays to Embree, whose

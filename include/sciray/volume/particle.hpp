@@ -93,9 +93,13 @@ public:
       const float support = std::sqrt(q.support2);
       std::int64_t first[3], last[3];
       for (int k = 0; k < 3; ++k) {
+        // Clamped as a float before the conversion: across a box spanning most of float's
+        // range, v - lower overflows to infinity.
         const auto cell = [&](float v) {
           const float c = std::floor((v - m.lower[k]) / m.size[k]);
-          return c <= 0.f ? std::int64_t{0} : std::min<std::int64_t>(static_cast<std::int64_t>(c), m.counts[k] - 1);
+          const std::int64_t last_cell = m.counts[k] - 1;
+          if (!(c > 0.f)) return std::int64_t{0};
+          return c >= static_cast<float>(last_cell) ? last_cell : static_cast<std::int64_t>(c);
         };
         first[k] = cell(q.centre[k] - support - pad), last[k] = cell(q.centre[k] + support + pad);
       }
@@ -271,6 +275,8 @@ private:
     if (!d.estimate_value_ranges && !(clamp_ > 0.f))
       fail("'estimateValueRanges' is false, which needs 'clampMaxCumulativeValue' greater than 0, got " +
            number(clamp_));
+    std::array<float, 3> lo, hi;
+    lo.fill(std::numeric_limits<float>::max()), hi.fill(-std::numeric_limits<float>::max());
     for (std::size_t i = 0; i < n; ++i) {
       const std::string at = ' ' + std::to_string(i);
       const Vec3f& p = d.positions[i];
@@ -287,7 +293,14 @@ private:
       if (!std::isfinite(reach) || !std::isfinite(support * support) || !std::isfinite(0.5f / (r * r)))
         fail("'particle.radius'" + at + " is " + number(r) + ": with 'radiusSupportFactor' " + number(factor_) +
              " its kernel is out of float range");
+      for (int k = 0; k < 3; ++k)
+        lo[k] = std::min(lo[k], p[k] - support), hi[k] = std::max(hi[k], p[k] + support);
     }
+    // The volume's box, and its macrocells, need its width as a float.
+    for (int k = 0; k < 3; ++k)
+      if (!std::isfinite(hi[k] - lo[k]))
+        fail(std::string("the particles' supports span [") + number(lo[k]) + ", " + number(hi[k]) + "] along " +
+             "xyz"[k] + ", wider than a float holds");
   }
 
   void build_hierarchy(const ParticleData& d) {
