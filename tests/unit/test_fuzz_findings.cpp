@@ -286,19 +286,17 @@ TEST_CASE("fuzz: macrocells over a box 1e36 cells wide are 128 a side, and far b
   CHECK(sciray::MacrocellGrid::over({{0.f, 0.f, 0.f}, {nan, 1.f, 1.f}}, 1.f, 4).counts[0] == 1);
 }
 
-// From the C API target: particles at x = -3e38 and 3e38. Their box was 6e38 wide, infinite
-// as a float, and so were its macrocells; a particle's support edge minus the box's corner
-// was infinite too, and converted to a macrocell index (undefined: INT64_MIN here, so no
-// macrocell was widened and empty space skipping would have stepped over the particles).
-TEST_CASE("fuzz: particles wider apart than a float holds are refused, and far ones widen their macrocells",
+// From the C API target: particles far from the origin. A macrocell index is the offset of a
+// particle's support edge, padded by 1e-6 of the box's largest coordinate, over the
+// macrocell size; with particles at x = ±1e30 of radius 1 that is about 5e24 along y, beyond
+// any integer, and it was converted to one (undefined: INT64_MIN here, so no macrocell was
+// widened and empty space skipping stepped over the particles). Found with it: particles
+// whose box is wider than a float holds made infinite macrocells.
+TEST_CASE("fuzz: particles far from the origin widen their macrocells, and boxes wider than a float are refused",
           "[fuzz][volume]") {
   sciray::ParticleData d;
-  d.positions = {{-3e38f, 0.f, 0.f}, {3e38f, 0.f, 0.f}};
+  d.positions = {{-1e30f, 0.f, 0.f}, {1e30f, 0.f, 0.f}};
   d.radii = {1.f, 1.f};
-  REQUIRE_THROWS_WITH(sciray::Particles(d), Contains("particle volume: the particles' supports span [-3e+38, 3e+38] "
-                                                     "along x, wider than a float holds"));
-  // As wide as fits: each particle's weight, 1, reaches the macrocells at its end.
-  d.positions = {{-1.5e38f, 0.f, 0.f}, {1.5e38f, 0.f, 0.f}};
   const sciray::Particles particles(d);
   const sciray::MacrocellGrid grid = particles.macrocell_grid(4);
   REQUIRE(grid.counts[0] > 1);
@@ -310,8 +308,12 @@ TEST_CASE("fuzz: particles wider apart than a float holds are refused, and far o
       for (std::int64_t y = 0; y < grid.counts[1]; ++y) peak = std::max(peak, ranges[2 * grid.index(x, y, z) + 1]);
     return peak;
   };
-  CHECK(peak_at_x(0) >= 1.f);
+  CHECK(peak_at_x(0) >= 1.f);  // each particle's weight, 1, reaches the macrocells at its end
   CHECK(peak_at_x(grid.counts[0] - 1) >= 1.f);
+
+  d.positions = {{-3e38f, 0.f, 0.f}, {3e38f, 0.f, 0.f}};
+  REQUIRE_THROWS_WITH(sciray::Particles(d), Contains("particle volume: the particles' supports span [-3e+38, 3e+38] "
+                                                     "along x, wider than a float holds"));
 }
 
 // From the C API target: a camera at x = 3.4e38 sent the path tracer's rays to Embree, whose
