@@ -93,8 +93,8 @@ public:
       const float support = std::sqrt(q.support2);
       std::int64_t first[3], last[3];
       for (int k = 0; k < 3; ++k) {
-        // Clamped as a float before the conversion: across a box spanning most of float's
-        // range, v - lower overflows to infinity.
+        // Clamped as a float before the conversion: far from the origin the padding (1e-6 of
+        // the largest coordinate) over a thin axis's small macrocells exceeds any integer.
         const auto cell = [&](float v) {
           const float c = std::floor((v - m.lower[k]) / m.size[k]);
           const std::int64_t last_cell = m.counts[k] - 1;
