@@ -343,6 +343,16 @@ inline void check_finite_points(const std::vector<double>& xyz, const char* name
     }
 }
 
+/// Refuses a cell list's entry that is not the index of one of `points` points; `entry`
+/// names the list's entries in the message.
+inline void check_point_indices(const std::vector<std::int64_t>& connectivity, std::size_t points,
+                                const std::string& entry, const Context& c) {
+  for (std::size_t i = 0; i < connectivity.size(); ++i)
+    if (connectivity[i] < 0 || connectivity[i] >= static_cast<std::int64_t>(points))
+      c.fail(entry + " " + std::to_string(i) + " refers to point " + std::to_string(connectivity[i]) +
+             ", but there are " + std::to_string(points) + " points");
+}
+
 }  // namespace vtk_detail
 
 /// Reads a .vtu file (its first piece).
@@ -399,10 +409,7 @@ inline UnstructuredGridFile read_vtu(const std::string& path) {
              std::to_string(previous) + ", " + std::to_string(out.connectivity.size()) + "]");
     previous = out.offsets[i];
   }
-  for (std::size_t i = 0; i < out.connectivity.size(); ++i)
-    if (out.connectivity[i] >= static_cast<std::int64_t>(points))
-      c.fail("Cells 'connectivity' value " + std::to_string(i) + " refers to point " +
-             std::to_string(out.connectivity[i]) + ", but there are " + std::to_string(points) + " points");
+  check_point_indices(out.connectivity, points, "Cells 'connectivity' value", c);
   for (const char* kind : {"PointData", "CellData"}) {
     const pugi::xml_node data = piece.child(kind);
     const bool point = std::string(kind) == "PointData";

@@ -478,10 +478,7 @@ inline LegacyVtkFile read_legacy_vtk(const std::string& path, const std::string&
                std::to_string(previous) + ", " + std::to_string(cells.connectivity.size()) + "]");
       previous = cells.offsets[i];
     }
-    for (std::size_t i = 0; i < cells.connectivity.size(); ++i)
-      if (cells.connectivity[i] < 0 || cells.connectivity[i] >= static_cast<std::int64_t>(n))
-        c.fail("CELLS: entry " + std::to_string(i) + " refers to point " + std::to_string(cells.connectivity[i]) +
-               ", but there are " + std::to_string(n) + " points");
+    check_point_indices(cells.connectivity, n, "CELLS: entry", c);
     grid.connectivity = std::move(cells.connectivity);
     grid.offsets = std::move(cells.offsets);
     grid.types = std::move(types);
