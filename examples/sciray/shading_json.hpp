@@ -9,6 +9,7 @@
 #include <fstream>
 #include <set>
 #include <string>
+#include <string_view>
 
 #include <nlohmann/json.hpp>
 
@@ -35,24 +36,24 @@ public:
   }
   void read(const char* key, float& v) {
     if (!take(key)) return;
-    v = json_float(j_[key], what_ + ": \"" + key + "\"");
+    v = json_float(j_[key], named(key));
   }
   void read(const char* key, bool& v) {
     if (!take(key)) return;
-    if (!j_[key].is_boolean()) throw sciray::Error(what_ + ": \"" + key + "\" must be true or false");
+    if (!j_[key].is_boolean()) throw sciray::Error(named(key) + " must be true or false");
     v = j_[key].get<bool>();
   }
   void read(const char* key, sciray::Vec3f& v) {
     if (!take(key)) return;
     const auto& a = j_[key];
     if (a.is_number()) {
-      v = sciray::splat(json_float(a, what_ + ": \"" + key + "\""));
+      v = sciray::splat(json_float(a, named(key)));
       return;
     }
     if (!a.is_array() || a.size() != 3 || !a[0].is_number() || !a[1].is_number() || !a[2].is_number())
-      throw sciray::Error(what_ + ": \"" + key + "\" must be a number or an array of 3 numbers");
-    const std::string what = what_ + ": \"" + key + "\"";
-    v = {json_float(a[0], what), json_float(a[1], what), json_float(a[2], what)};
+      throw sciray::Error(named(key) + " must be a number or an array of 3 numbers");
+    const std::string name = named(key);
+    v = {json_float(a[0], name), json_float(a[1], name), json_float(a[2], name)};
   }
   /// A colour whose absence means something (carPaint's flakeColor): set only when given.
   void read(const char* key, std::optional<sciray::Vec3f>& v) {
@@ -65,21 +66,21 @@ public:
     if (!take(key)) return;
     const auto& a = j_[key];
     if (!a.is_array() || a.size() != 2 || !a[0].is_number() || !a[1].is_number())
-      throw sciray::Error(what_ + ": \"" + key + "\" must be an array of 2 numbers");
-    const std::string what = what_ + ": \"" + key + "\"";
-    v = {json_float(a[0], what), json_float(a[1], what)};
+      throw sciray::Error(named(key) + " must be an array of 2 numbers");
+    const std::string name = named(key);
+    v = {json_float(a[0], name), json_float(a[1], name)};
   }
   /// A map `key`: an image file, with its rotation, scale and translation. PNG colour maps
   /// hold sRGB values and are made linear; scalar maps are read as they are.
   void read_map(const std::string& key, sciray::TextureMap& map, bool color) {
     if (!take(key.c_str())) return;
-    if (!j_[key].is_string()) throw sciray::Error(what_ + ": \"" + key + "\" must be an image file name");
+    if (!j_[key].is_string()) throw sciray::Error(named(key) + " must be an image file name");
     const std::string file = j_[key].get<std::string>();
     sciray::io::Image image;
     try {
       image = sciray::io::read_image(file);
     } catch (const sciray::Error& e) {
-      throw sciray::Error(what_ + ": \"" + key + "\": " + e.what());
+      throw sciray::Error(named(key) + ": " + e.what());
     }
     const bool srgb = color && std::filesystem::path(file).extension() == ".png";
     // Row 0 of a texture is its bottom (v = 0); an image file's is its top.
@@ -96,7 +97,7 @@ public:
     try {
       map.texture = std::make_shared<const sciray::Texture2D>(image.width, image.height, std::move(texels));
     } catch (const sciray::Error& e) {
-      throw sciray::Error(what_ + ": \"" + key + "\" (" + file + "): " + e.what());
+      throw sciray::Error(named(key) + " (" + file + "): " + e.what());
     }
     float rotation = 0.f;
     sciray::TexCoord<float> scale{1.f, 1.f}, translation{0.f, 0.f};
@@ -109,7 +110,7 @@ public:
   /// The JSON object `key`, or null where it is not given.
   const nlohmann::json* object(const char* key) {
     if (!take(key)) return nullptr;
-    if (!j_[key].is_object()) throw sciray::Error(what_ + ": \"" + key + "\" must be a JSON object");
+    if (!j_[key].is_object()) throw sciray::Error(named(key) + " must be a JSON object");
     return &j_[key];
   }
   /// Throws for keys nothing read: a misspelt parameter must not be silently ignored.
@@ -123,6 +124,8 @@ private:
     used_.insert(key);
     return j_.contains(key);
   }
+  /// `key` as messages name it: the object, then the key in quotes.
+  std::string named(std::string_view key) const { return what_ + ": \"" + std::string(key) + "\""; }
   const nlohmann::json& j_;
   std::string what_;
   std::set<std::string> used_;
