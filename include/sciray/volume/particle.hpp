@@ -275,8 +275,7 @@ private:
     if (!d.estimate_value_ranges && !(clamp_ > 0.f))
       fail("'estimateValueRanges' is false, which needs 'clampMaxCumulativeValue' greater than 0, got " +
            number(clamp_));
-    std::array<float, 3> lo, hi;
-    lo.fill(std::numeric_limits<float>::max()), hi.fill(-std::numeric_limits<float>::max());
+    Box3f supports;  // the volume's box, as build_hierarchy makes it
     for (std::size_t i = 0; i < n; ++i) {
       const std::string at = ' ' + std::to_string(i);
       const Vec3f& p = d.positions[i];
@@ -293,14 +292,13 @@ private:
       if (!std::isfinite(reach) || !std::isfinite(support * support) || !std::isfinite(0.5f / (r * r)))
         fail("'particle.radius'" + at + " is " + number(r) + ": with 'radiusSupportFactor' " + number(factor_) +
              " its kernel is out of float range");
-      for (int k = 0; k < 3; ++k)
-        lo[k] = std::min(lo[k], p[k] - support), hi[k] = std::max(hi[k], p[k] + support);
+      supports.extend(Box3f{p - splat(support), p + splat(support)});
     }
     // The volume's box, and its macrocells, need its width as a float.
     for (int k = 0; k < 3; ++k)
-      if (!std::isfinite(hi[k] - lo[k]))
-        fail(std::string("the particles' supports span [") + number(lo[k]) + ", " + number(hi[k]) + "] along " +
-             "xyz"[k] + ", wider than a float holds");
+      if (!std::isfinite(supports.upper[k] - supports.lower[k]))
+        fail(std::string("the particles' supports span [") + number(supports.lower[k]) + ", " +
+             number(supports.upper[k]) + "] along " + "xyz"[k] + ", wider than a float holds");
   }
 
   void build_hierarchy(const ParticleData& d) {
