@@ -47,6 +47,13 @@ struct MacrocellGrid {
   std::size_t index(std::int64_t x, std::int64_t y, std::int64_t z) const {
     return static_cast<std::size_t>((z * counts[1] + y) * counts[0] + x);
   }
+  /// The macrocell along `axis` that holds coordinate `v`, clamped to the grid. Compared as
+  /// a float before the conversion: v may lie beyond any integer's worth of macrocells, or be NaN.
+  std::int64_t cell_along(int axis, float v) const {
+    const float c = (v - lower[axis]) / size[axis];
+    if (!(c > 0.f)) return 0;
+    return c >= static_cast<float>(counts[axis] - 1) ? counts[axis] - 1 : static_cast<std::int64_t>(c);
+  }
   /// Ranges (min, max per macrocell) that no value has widened yet.
   std::vector<float> empty_ranges() const {
     if (count() > static_cast<std::size_t>(INT32_MAX)) throw Error("volume: too many macrocells for 32-bit indices");
@@ -58,14 +65,8 @@ struct MacrocellGrid {
   /// Widens the range of every macrocell that `box` overlaps (clamped to the grid) by [lo, hi].
   void widen(const Box3f& box, float lo, float hi, std::vector<float>& ranges) const {
     std::int64_t first[3], last[3];
-    for (int k = 0; k < 3; ++k) {
-      const auto cell = [&](float v) {
-        const float c = (v - lower[k]) / size[k];  // compared as a float: it may be beyond any integer
-        if (!(c > 0.f)) return std::int64_t{0};
-        return c >= static_cast<float>(counts[k] - 1) ? counts[k] - 1 : static_cast<std::int64_t>(c);
-      };
-      first[k] = cell(box.lower[k]), last[k] = cell(box.upper[k]);
-    }
+    for (int k = 0; k < 3; ++k)
+      first[k] = cell_along(k, box.lower[k]), last[k] = cell_along(k, box.upper[k]);
     for (std::int64_t z = first[2]; z <= last[2]; ++z)
       for (std::int64_t y = first[1]; y <= last[1]; ++y)
         for (std::int64_t x = first[0]; x <= last[0]; ++x) {

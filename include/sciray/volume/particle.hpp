@@ -92,17 +92,10 @@ public:
     for (const Particle& q : particles_) {
       const float support = std::sqrt(q.support2);
       std::int64_t first[3], last[3];
-      for (int k = 0; k < 3; ++k) {
-        // Clamped as a float before the conversion: far from the origin the padding (1e-6 of
-        // the largest coordinate) over a thin axis's small macrocells exceeds any integer.
-        const auto cell = [&](float v) {
-          const float c = std::floor((v - m.lower[k]) / m.size[k]);
-          const std::int64_t last_cell = m.counts[k] - 1;
-          if (!(c > 0.f)) return std::int64_t{0};
-          return c >= static_cast<float>(last_cell) ? last_cell : static_cast<std::int64_t>(c);
-        };
-        first[k] = cell(q.centre[k] - support - pad), last[k] = cell(q.centre[k] + support + pad);
-      }
+      // Far from the origin the padding (1e-6 of the largest coordinate) over a thin axis's
+      // small macrocells reaches beyond any integer: cell_along clamps it.
+      for (int k = 0; k < 3; ++k)
+        first[k] = m.cell_along(k, q.centre[k] - support - pad), last[k] = m.cell_along(k, q.centre[k] + support + pad);
       for (std::int64_t z = first[2]; z <= last[2]; ++z)
         for (std::int64_t y = first[1]; y <= last[1]; ++y)
           for (std::int64_t x = first[0]; x <= last[0]; ++x) {
